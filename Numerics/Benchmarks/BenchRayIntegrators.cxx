@@ -1,0 +1,91 @@
+// Time per ray and samples per ray of every integrator on a fixed synthetic ray
+// set (the first 256 rays of Testing/RandomRays.h), so that changes can be
+// compared:  build/bin/avos-bench-integrators
+#include "RandomRays.h"
+#include "avos/numerics/RayIntegrators.h"
+
+#include <benchmark/benchmark.h>
+
+using namespace avos::numerics;
+
+namespace
+{
+constexpr int Rays = 256;
+
+template <typename Real>
+const std::vector<randomrays::Ray<Real>>& RaySet()
+{
+  static const std::vector<randomrays::Ray<Real>> rays = []
+  {
+    std::vector<randomrays::Ray<Real>> r;
+    for (int i = 0; i < Rays; ++i)
+    {
+      r.push_back(randomrays::Make<Real>(i));
+    }
+    return r;
+  }();
+  return rays;
+}
+
+template <typename Real, typename Integrate>
+void Run(benchmark::State& state, Integrate integrate)
+{
+  const auto& rays = RaySet<Real>();
+  long samples = 0, rays_done = 0;
+  for (auto _ : state)
+  {
+    for (const auto& ray : rays)
+    {
+      const auto r = integrate(ray);
+      benchmark::DoNotOptimize(r.RGBA);
+      samples += r.Statistics.Samples;
+      ++rays_done;
+    }
+  }
+  state.SetItemsProcessed(rays_done);
+  state.counters["time_per_ray"] = benchmark::Counter(
+    double(rays_done), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["samples_per_ray"] = double(samples) / double(rays_done);
+}
+
+void Riemann(benchmark::State& state)
+{
+  const double h = state.range(0) / 100.0;
+  Run<double>(state,
+    [h](const auto& ray)
+    { return IntegrateRiemann(ray, ray.TF, ray.Length, h, RiemannForm::Linear); });
+}
+BENCHMARK(Riemann)->Arg(50)->Arg(10)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+void Simpson(benchmark::State& state)
+{
+  const double h = state.range(0) / 100.0;
+  Run<double>(state, [h](const auto& ray) { return IntegrateSimpson(ray, ray.TF, ray.Length, h); });
+}
+BENCHMARK(Simpson)->Arg(200)->Arg(50)->Unit(benchmark::kMicrosecond);
+
+template <typename Real>
+void Adaptive(benchmark::State& state)
+{
+  AdaptiveSettings<Real> s;
+  s.Tolerance = Real(state.range(0) / 10000.0);
+  s.Coupling = state.range(1) ? Strategy::Decoupled : Strategy::Coupled;
+  Run<Real>(state, [&s](const auto& ray) { return IntegrateAdaptive(ray, ray.TF, ray.Length, s); });
+}
+BENCHMARK_TEMPLATE(Adaptive, double)
+  ->ArgsProduct({ { 100, 50, 10 }, { 0, 1 } })
+  ->ArgNames({ "eps_x1e4", "decoupled" })
+  ->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(Adaptive, float)
+  ->ArgsProduct({ { 100, 10 }, { 0 } })
+  ->ArgNames({ "eps_x1e4", "decoupled" })
+  ->Unit(benchmark::kMicrosecond);
+
+void Reference(benchmark::State& state)
+{
+  Run<double>(state, [](const auto& ray) { return IntegrateReference(ray, ray.TF, ray.Length); });
+}
+BENCHMARK(Reference)->Unit(benchmark::kMillisecond);
+}
+
+BENCHMARK_MAIN();

@@ -1,0 +1,638 @@
+// Evaluators of the volume rendering integral along one ray.
+//
+//   I     = int_0^D C(s(t)) tau(s(t)) exp(-int_0^t tau(s(t')) dt') dt   (per RGB channel)
+//   alpha = 1 - exp(-int_0^D tau(s(t)) dt)
+//
+// A ray is any callable `Real field(Real t)` giving the scalar s at distance t
+// (in voxel units) from the ray's entry, t in [0, D], and a TransferFunction.
+// The colour I is premultiplied by opacity (RGB = I, A = alpha), black
+// background.
+//
+// Evaluators, after L. Q. Campagnolo, W. Celes and L. H. de Figueiredo,
+// "Accurate Volume Rendering based on Adaptive Numerical Integration",
+// SIBGRAPI 2015 ("the paper"):
+// - IntegrateRiemann: the paper's uniform-step baseline, right-hand rule,
+//   with T *= (1 - tau h) (RiemannForm::Linear) or T *= exp(-tau h)
+//   (RiemannForm::Exponential). First order.
+// - IntegrateSimpson: composite Simpson with a fixed step for both the inner
+//   and the outer integral. Fourth order.
+// - IntegrateAdaptive: the paper's Algorithm 3 on top of its iterative
+//   adaptive Simpson rule (Algorithm 2), Strategy::Coupled or ::Decoupled.
+// - IntegrateReference: IntegrateAdaptive with a tolerance of 1e-9 and steps
+//   down to 1e-7 voxel, error below 1e-6 per channel (proven by the oracles
+//   in Numerics/Testing).
+//
+// Tolerance. Algorithm 2 halves eps with h, i.e. it uses a tolerance per unit
+// length; like the authors' code (15 eps h / L on |D - S|), a step of length h
+// is accepted when its estimated error E = |D - S| / 15 is at most
+// eps_part * h / L, L the ray length, so the estimated errors of all steps
+// add up to at most eps_part. The budget eps is split three ways:
+// - inner integral (optical depth theta): 0.4 eps. An error d in theta
+//   changes every later contribution, and 1 - alpha, by a factor e^{-d}, so by
+//   at most T d: the inner estimate is weighted by the transmittance T(t) at
+//   the step's start (steps behind opaque matter need no accuracy).
+// - outer integral (RGB): 0.4 eps.
+// - early ray termination: 0.2 eps. What the rest of a ray can add to any
+//   channel is at most T * max C (colour <= max C, int tau e^{-theta} <= T),
+//   and alpha moves by at most T; the ray stops once T * max(1, max C) is
+//   below that share.
+// The guarantee is as good as Simpson's error estimate, which can miss
+// features narrower than a step and is capped by h_min (a step of h_min is
+// taken even when it fails, as in the paper); Numerics/Testing measures how
+// often the bound holds on random rays.
+//
+// Termination. Every attempt either accepts a step of at least
+// min(h_min, remaining length), or halves a step that is above h_min; h never
+// exceeds h_max; t + h is exact at the ray's end and h_min is raised to at
+// least 8 ulp of D so that t always advances. Hence at most
+// MaximumAttempts(D, settings) attempts and 5 samples per attempt, whatever
+// the data (NaN scalars are transparent; infinities clamp to the end knots).
+#ifndef avos_numerics_RayIntegrators_h
+#define avos_numerics_RayIntegrators_h
+
+#include "avos/numerics/TransferFunction.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+enum class Strategy
+{
+  Coupled,  // the inner integral's step starts each outer integration
+  Decoupled // the outer integral keeps its own step; the inner one only bounds it
+};
+
+enum class RiemannForm
+{
+  Linear,     // T *= 1 - tau h (tau h clamped to 1)
+  Exponential // T *= exp(-tau h)
+};
+
+template <typename Real>
+struct AdaptiveSettings
+{
+  Real Tolerance = Real(0.01);  // eps, per channel
+  Real InitialStep = Real(0.5); // h0, voxel units
+  Real MinimumStep = Real(0.1); // h_min
+  Real MaximumStep = Real(2.0); // h_max
+  Strategy Coupling = Strategy::Coupled;
+  bool EarlyTermination = true;
+
+  // Empty when valid, else the reason.
+  std::string Validate() const
+  {
+    if (!(this->Tolerance > Real(0)) || !std::isfinite(this->Tolerance))
+    {
+      return "the tolerance must be positive and finite";
+    }
+    if (!(this->InitialStep > Real(0)) || !std::isfinite(this->InitialStep))
+    {
+      return "the initial step must be positive and finite";
+    }
+    if (!(this->MinimumStep > Real(0)) || !(this->MaximumStep >= this->MinimumStep) ||
+      !std::isfinite(this->MaximumStep))
+    {
+      return "the steps must satisfy 0 < minimum step <= maximum step < inf";
+    }
+    return std::string();
+  }
+};
+
+template <typename Real>
+struct StepRecord
+{
+  Real Start;
+  Real Length;
+};
+
+template <typename Real>
+struct RayStatistics
+{
+  long Samples = 0;  // transfer-function evaluations
+  long Accepted = 0; // accepted steps, inner and outer
+  long Rejected = 0; // rejected (halved) steps, inner and outer
+  Real SmallestStep = std::numeric_limits<Real>::infinity();
+  Real LargestStep = Real(0);
+  bool Terminated = false; // stopped early by the transmittance bound
+  // When non-null, receives the accepted outer steps (the paper's Figure 6);
+  // IntegrateAdaptive's last argument.
+  std::vector<StepRecord<Real>>* Steps = nullptr;
+
+  long Attempts() const { return this->Accepted + this->Rejected; }
+  void Accept(Real t, Real h, bool outer)
+  {
+    ++this->Accepted;
+    this->SmallestStep = std::min(this->SmallestStep, h);
+    this->LargestStep = std::max(this->LargestStep, h);
+    if (outer && this->Steps)
+    {
+      this->Steps->push_back({ t, h });
+    }
+  }
+};
+
+template <typename Real>
+struct RayResult
+{
+  glm::vec<4, Real> RGBA = glm::vec<4, Real>(Real(0));
+  RayStatistics<Real> Statistics;
+  std::string Error; // non-empty: invalid input, RGBA is zero
+};
+
+// Upper bound on step attempts of IntegrateAdaptive for a ray of length D:
+// at most ceil(D / h_min) + 1 accepted steps for each of the inner and the
+// outer integral, at most one interval-end step per inner step, and between
+// two accepted steps at most ceil(log2(h_max / h_min)) + 1 rejections.
+template <typename Real>
+long MaximumAttempts(Real D, const AdaptiveSettings<Real>& settings)
+{
+  const Real hmin =
+    std::max(settings.MinimumStep, Real(8) * std::numeric_limits<Real>::epsilon() * D);
+  const double steps = std::ceil(double(D) / double(hmin)) + 1.0;
+  const double halvings = std::ceil(std::log2(double(settings.MaximumStep) / double(hmin))) + 2.0;
+  return static_cast<long>(std::min(3.0 * steps * halvings, 9e18));
+}
+
+namespace detail
+{
+
+template <typename Real>
+struct Sample
+{
+  Real Scalar;
+  Real Tau;
+  glm::vec<3, Real> Color;
+};
+
+template <typename Real, typename Field>
+class Sampler
+{
+public:
+  Sampler(const Field& field, const TransferFunction<Real>& tf, RayStatistics<Real>& stats)
+    : F(field)
+    , TF(tf)
+    , Stats(stats)
+  {
+  }
+
+  Sample<Real> operator()(Real t) const
+  {
+    ++this->Stats.Samples;
+    const Real s = this->F(t);
+    return { s, this->TF.GetExtinction(s), this->TF.GetColor(s) };
+  }
+
+  const TransferFunction<Real>& GetTransferFunction() const { return this->TF; }
+
+private:
+  const Field& F;
+  const TransferFunction<Real>& TF;
+  RayStatistics<Real>& Stats;
+};
+
+// Five equidistant samples over [u, u + k]: Simpson on the whole step (S) and
+// on its two halves (D), for both the inner and the outer integral. Halving
+// keeps three samples and takes two new ones.
+template <typename Real>
+struct Bracket
+{
+  Real U = Real(0);
+  Real K = Real(0);
+  Sample<Real> S[5];
+
+  template <typename SamplerT>
+  void Fill(const SamplerT& sample, Real u, Real k)
+  {
+    this->U = u;
+    this->K = k;
+    for (int i = 1; i < 5; ++i)
+    {
+      this->S[i] = sample(i == 4 ? u + k : u + Real(0.25) * Real(i) * k);
+    }
+  }
+
+  template <typename SamplerT>
+  void Halve(const SamplerT& sample)
+  {
+    this->K *= Real(0.5);
+    this->S[4] = this->S[2];
+    this->S[2] = this->S[1];
+    this->S[1] = sample(this->U + Real(0.25) * this->K);
+    this->S[3] = sample(this->U + Real(0.75) * this->K);
+  }
+
+  // Simpson's estimate |D - S| / 15 assumes a smooth integrand. Where the
+  // transfer function jumps inside the step's scalar range, the error of D is
+  // of the order of |D - S| itself, so the factor 1/15 is dropped there.
+  Real EstimateScale(const TransferFunction<Real>& tf) const
+  {
+    Real lo = this->S[0].Scalar, hi = lo, spread = Real(0);
+    for (int i = 1; i < 5; ++i)
+    {
+      lo = std::min(lo, this->S[i].Scalar);
+      hi = std::max(hi, this->S[i].Scalar);
+      spread = std::max(spread, std::abs(this->S[i].Scalar - this->S[i - 1].Scalar));
+    }
+    // A non-monotone field can reach past its samples between them: widen
+    // the range by the largest change between neighbouring samples.
+    lo -= spread;
+    hi += spread;
+    return (lo == lo && hi == hi && tf.HasJumpIn(lo, hi)) ? Real(15) : Real(1);
+  }
+
+  // The stable rule for a step taken at h_min although its estimate fails:
+  // piecewise-constant extinction and colour on the four quarters, each
+  // integrated exactly (T *= e^{-tau dt}). Bounded and monotone, unlike a
+  // Simpson polynomial across a jump or a huge extinction.
+  void Stable(Real& theta, glm::vec<3, Real>& color) const
+  {
+    const Real dt = Real(0.25) * this->K;
+    for (int i = 1; i < 5; ++i)
+    {
+      const Real tau = Real(0.5) * (this->S[i - 1].Tau + this->S[i].Tau);
+      const glm::vec<3, Real> c = Real(0.5) * (this->S[i - 1].Color + this->S[i].Color);
+      color += std::exp(-theta) * -std::expm1(-tau * dt) * c;
+      theta += tau * dt;
+    }
+  }
+
+  bool AllTransparent() const
+  {
+    for (const auto& s : this->S)
+    {
+      if (s.Tau != Real(0))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // Simpson on the whole step (S) and on its two halves (D). Their
+  // difference estimates the error of D: E = |D - S| / 15, and
+  // D + (D - S) / 15 is the Richardson-corrected value.
+  template <typename V>
+  struct Pair
+  {
+    V S;
+    V D;
+    V Corrected() const { return this->D + (this->D - this->S) / Real(15); }
+  };
+
+  // Inner integral: int tau over the step.
+  Pair<Real> Inner() const
+  {
+    const Real k = this->K;
+    return { k / Real(6) * (this->S[0].Tau + Real(4) * this->S[2].Tau + this->S[4].Tau),
+      k / Real(12) *
+        (this->S[0].Tau + Real(4) * this->S[1].Tau + Real(2) * this->S[2].Tau +
+          Real(4) * this->S[3].Tau + this->S[4].Tau) };
+  }
+
+  // Outer integral: int C tau e^{-theta} over the step with theta(U) = theta0.
+  // theta inside the step comes from regular Simpson (its error is already
+  // bounded by the inner step): at the half points by Simpson on each half, at
+  // the quarter points by integrating the quadratic through a half's samples.
+  Pair<glm::vec<3, Real>> Outer(Real theta0) const
+  {
+    const Real k = this->K;
+    Real t[5];
+    for (int i = 0; i < 5; ++i)
+    {
+      t[i] = this->S[i].Tau;
+    }
+    Real theta[5];
+    theta[0] = theta0;
+    theta[1] = theta0 + k / Real(48) * (Real(5) * t[0] + Real(8) * t[1] - t[2]);
+    theta[2] = theta0 + k / Real(12) * (t[0] + Real(4) * t[1] + t[2]);
+    theta[3] = theta[2] + k / Real(48) * (Real(5) * t[2] + Real(8) * t[3] - t[4]);
+    theta[4] = theta[2] + k / Real(12) * (t[2] + Real(4) * t[3] + t[4]);
+    glm::vec<3, Real> g[5];
+    for (int i = 0; i < 5; ++i)
+    {
+      g[i] = this->S[i].Color * (t[i] * std::exp(-theta[i]));
+    }
+    return { k / Real(6) * (g[0] + Real(4) * g[2] + g[4]),
+      k / Real(12) * (g[0] + Real(4) * g[1] + Real(2) * g[2] + Real(4) * g[3] + g[4]) };
+  }
+};
+
+template <typename Real>
+Real ErrorEstimate(Real s, Real d)
+{
+  return std::abs(d - s) / Real(15);
+}
+
+template <typename Real>
+Real ErrorEstimate(const glm::vec<3, Real>& s, const glm::vec<3, Real>& d)
+{
+  const glm::vec<3, Real> e = glm::abs(d - s) / Real(15);
+  return std::max({ e[0], e[1], e[2] });
+}
+
+// Algorithm 2's step control: double after two consecutive successes, halve
+// on failure, within [h_min, h_max].
+template <typename Real>
+struct StepControl
+{
+  Real H;
+  Real Min;
+  Real Max;
+  bool LastSucceeded = true;
+
+  void Succeeded()
+  {
+    if (this->LastSucceeded)
+    {
+      this->H = std::min(Real(2) * this->H, this->Max);
+    }
+    this->LastSucceeded = true;
+  }
+  void Failed()
+  {
+    this->H = std::max(Real(0.5) * this->H, this->Min);
+    this->LastSucceeded = false;
+  }
+};
+
+} // namespace detail
+
+template <typename Real, typename Field>
+RayResult<Real> IntegrateRiemann(const Field& field,
+  const TransferFunction<Real>& tf,
+  Real D,
+  Real h,
+  RiemannForm form)
+{
+  RayResult<Real> result;
+  result.Error = tf.Validate();
+  if (result.Error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
+  {
+    result.Error = "the step must be positive and finite";
+  }
+  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
+  {
+    result.Error = "the ray length must be finite and non-negative";
+  }
+  if (!result.Error.empty() || D == Real(0))
+  {
+    return result;
+  }
+  detail::Sampler<Real, Field> sample(field, tf, result.Statistics);
+  glm::vec<3, Real> color(Real(0));
+  Real T = Real(1);
+  const long n = static_cast<long>(std::ceil(double(D) / double(h)));
+  Real t0 = Real(0);
+  for (long i = 1; i <= n; ++i)
+  {
+    const Real t1 = i == n ? D : std::min(Real(i) * h, D);
+    const Real dt = t1 - t0;
+    const detail::Sample<Real> s = sample(t1);
+    const Real a =
+      form == RiemannForm::Linear ? std::min(s.Tau * dt, Real(1)) : -std::expm1(-s.Tau * dt);
+    color += T * a * s.Color;
+    T *= Real(1) - a;
+    result.Statistics.Accept(t0, dt, true);
+    t0 = t1;
+  }
+  result.RGBA = glm::vec<4, Real>(color, Real(1) - T);
+  return result;
+}
+
+template <typename Real, typename Field>
+RayResult<Real> IntegrateSimpson(const Field& field,
+  const TransferFunction<Real>& tf,
+  Real D,
+  Real h)
+{
+  RayResult<Real> result;
+  result.Error = tf.Validate();
+  if (result.Error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
+  {
+    result.Error = "the step must be positive and finite";
+  }
+  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
+  {
+    result.Error = "the ray length must be finite and non-negative";
+  }
+  if (!result.Error.empty() || D == Real(0))
+  {
+    return result;
+  }
+  detail::Sampler<Real, Field> sample(field, tf, result.Statistics);
+  const long n = static_cast<long>(std::ceil(double(D) / double(h)));
+  const Real k = D / Real(n);
+  detail::Bracket<Real> b;
+  b.S[0] = sample(Real(0));
+  glm::vec<3, Real> color(Real(0));
+  Real theta = Real(0);
+  for (long i = 0; i < n; ++i)
+  {
+    b.Fill(sample, Real(i) * k, k);
+    // Plain composite Simpson with step k / 2, without Richardson's correction.
+    color += b.Outer(theta).D;
+    theta += b.Inner().D;
+    result.Statistics.Accept(b.U, k, true);
+    b.S[0] = b.S[4];
+  }
+  result.RGBA = glm::vec<4, Real>(color, -std::expm1(-theta));
+  return result;
+}
+
+// The paper's Algorithm 3: the inner integral finds a step over which the
+// optical depth is accurate (Algorithm 2 with the h_min/h_max clamps, returning
+// as soon as a step is accepted); the outer integral then covers that
+// interval for the RGB channels with its own adaptive steps, started from the
+// inner step (Coupled) or from where it left off (Decoupled), using regular
+// Simpson for theta inside; the outer integral is skipped where the inner one
+// is exactly zero. Samples are shared: a halved step reuses three of its five
+// samples, and the coupled outer integral's first try reuses the inner one's.
+template <typename Real, typename Field>
+RayResult<Real> IntegrateAdaptive(const Field& field,
+  const TransferFunction<Real>& tf,
+  Real D,
+  const AdaptiveSettings<Real>& settings,
+  std::vector<StepRecord<Real>>* steps = nullptr)
+{
+  RayResult<Real> result;
+  result.Statistics.Steps = steps;
+  result.Error = tf.Validate();
+  if (result.Error.empty())
+  {
+    result.Error = settings.Validate();
+  }
+  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
+  {
+    result.Error = "the ray length must be finite and non-negative";
+  }
+  if (!result.Error.empty() || D == Real(0))
+  {
+    return result;
+  }
+  RayStatistics<Real>& stats = result.Statistics;
+  detail::Sampler<Real, Field> sample(field, tf, stats);
+
+  // h_min of at least 8 ulp of D: t + h > t everywhere on the ray.
+  const Real hmin =
+    std::max(settings.MinimumStep, Real(8) * std::numeric_limits<Real>::epsilon() * D);
+  const Real hmax = std::max(settings.MaximumStep, hmin);
+  const Real eps = settings.Tolerance;
+  const Real innerTolerance = Real(0.4) * eps / D; // per unit length
+  const Real outerTolerance = Real(0.4) * eps / D;
+  const Real terminationBudget = Real(0.2) * eps / std::max(Real(1), tf.GetMaximumColor());
+
+  const Real h0 = std::min(std::max(std::min(settings.InitialStep, D), hmin), hmax);
+  detail::StepControl<Real> inner{ h0, hmin, hmax };
+  detail::StepControl<Real> outer{ h0, hmin, hmax };
+
+  detail::Bracket<Real> in;
+  detail::Bracket<Real> out;
+  in.S[0] = sample(Real(0));
+  glm::vec<3, Real> color(Real(0));
+  Real theta = Real(0);
+  Real t = Real(0);
+  while (t < D)
+  {
+    // Inner integral: the first acceptable step from t.
+    const Real T = std::exp(-theta);
+    const Real remaining = D - t;
+    in.Fill(sample, t, std::min(inner.H, remaining));
+    bool innerForced = false;
+    for (;;)
+    {
+      const auto pair = in.Inner();
+      const Real error = T * in.EstimateScale(tf) * detail::ErrorEstimate(pair.S, pair.D);
+      if (error <= innerTolerance * in.K)
+      {
+        break;
+      }
+      if (in.K <= hmin)
+      {
+        innerForced = true;
+        break;
+      }
+      ++stats.Rejected;
+      inner.Failed();
+      in.Halve(sample);
+    }
+    const Real h = in.K;
+    const Real tEnd = in.K == remaining ? D : t + h;
+    stats.Accept(t, h, false);
+    Real innerValue = std::max(in.Inner().Corrected(), Real(0));
+    if (innerForced)
+    {
+      // The stable rule over the whole step, colour included: no outer pass.
+      Real thetaEnd = theta;
+      in.Stable(thetaEnd, color);
+      innerValue = thetaEnd - theta;
+      if (stats.Steps)
+      {
+        stats.Steps->push_back({ t, h });
+      }
+    }
+
+    if (!innerForced && !in.AllTransparent())
+    {
+      // Outer integral over [t, tEnd].
+      if (settings.Coupling == Strategy::Coupled)
+      {
+        outer.H = h;
+        outer.LastSucceeded = true;
+      }
+      Real u = t;
+      Real thetaU = theta;
+      out.S[0] = in.S[0];
+      while (u < tEnd)
+      {
+        const Real k = std::min(outer.H, tEnd - u);
+        if (u == t && k == h)
+        {
+          out = in; // the inner step's samples, exactly
+        }
+        else
+        {
+          out.Fill(sample, u, k);
+        }
+        bool outerForced = false;
+        for (;;)
+        {
+          const auto pair = out.Outer(thetaU);
+          if (out.EstimateScale(tf) * detail::ErrorEstimate(pair.S, pair.D) <=
+            outerTolerance * out.K)
+          {
+            break;
+          }
+          if (out.K <= hmin)
+          {
+            outerForced = true;
+            break;
+          }
+          ++stats.Rejected;
+          outer.Failed();
+          out.Halve(sample);
+        }
+        if (outerForced)
+        {
+          out.Stable(thetaU, color);
+        }
+        else
+        {
+          color += out.Outer(thetaU).Corrected();
+          thetaU += std::max(out.Inner().Corrected(), Real(0));
+        }
+        const Real uEnd = out.K == tEnd - u ? tEnd : u + out.K;
+        stats.Accept(u, out.K, true);
+        outer.Succeeded();
+        u = uEnd;
+        out.S[0] = out.S[4];
+      }
+    }
+    else if (!innerForced && stats.Steps)
+    {
+      stats.Steps->push_back({ t, h }); // transparent: the inner step is the step
+    }
+
+    theta += innerValue;
+    t = tEnd;
+    in.S[0] = in.S[4];
+    inner.Succeeded();
+
+    if (settings.EarlyTermination && t < D && std::exp(-theta) <= terminationBudget)
+    {
+      stats.Terminated = true;
+      break;
+    }
+  }
+  result.RGBA = glm::vec<4, Real>(color, -std::expm1(-theta));
+  return result;
+}
+
+// Reference evaluator: IntegrateAdaptive (decoupled) with eps = 1e-9, steps
+// between 1e-7 and 0.25 voxel and no early termination. Meant for double;
+// Numerics/Testing shows its error is below 1e-6 per channel on the oracles.
+template <typename Real, typename Field>
+RayResult<Real> IntegrateReference(const Field& field, const TransferFunction<Real>& tf, Real D)
+{
+  AdaptiveSettings<Real> settings;
+  settings.Tolerance = Real(1e-9);
+  settings.InitialStep = Real(0.125);
+  settings.MinimumStep = Real(1e-7);
+  settings.MaximumStep = Real(0.25);
+  settings.Coupling = Strategy::Decoupled;
+  settings.EarlyTermination = false;
+  return IntegrateAdaptive(field, tf, D, settings);
+}
+
+} // namespace numerics
+} // namespace avos
+
+#endif

@@ -1,0 +1,210 @@
+// Piecewise-linear 1D transfer function: colour C(s) and extinction tau(s).
+//
+// The volume rendering integral (Max 1995, emission-absorption model) needs
+// the extinction coefficient tau per unit length. Two ways to give it:
+// - Extinction model (the adaptive-integration paper's): the opacity knots
+//   ARE tau per voxel unit, interpolated linearly in s.
+// - Alpha model (VTK's): the opacity knots are an alpha accumulated over
+//   UnitDistance, interpolated linearly in s, and
+//   tau(s) = -ln(1 - alpha(s)) / UnitDistance.
+//   alpha >= 1 (fully opaque) gives OpaqueExtinction / UnitDistance, a finite
+//   tau whose transmittance over one unit distance is below 1e-17, so no
+//   inf or NaN ever enters the integrators.
+//
+// Knots must be sorted by scalar value. Equal consecutive values make a jump
+// (the function is right-continuous there): discontinuous transfer functions
+// are representable. Outside the knots the end values are held (clamping).
+// A NaN scalar is defined to be fully transparent and black.
+#ifndef avos_numerics_TransferFunction_h
+#define avos_numerics_TransferFunction_h
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+enum class OpacityModel
+{
+  Extinction,
+  Alpha
+};
+
+template <typename Real>
+class TransferFunction
+{
+public:
+  using Color = glm::vec<3, Real>;
+
+  // -ln(1e-17) ~ 39.1: transmittance of an "opaque" unit distance.
+  static constexpr Real OpaqueExtinction = Real(40);
+
+  void AddColorKnot(Real s, Real r, Real g, Real b)
+  {
+    this->ColorValues.push_back(s);
+    this->Colors.push_back(Color(r, g, b));
+  }
+  void AddOpacityKnot(Real s, Real value)
+  {
+    this->OpacityValues.push_back(s);
+    this->Opacities.push_back(value);
+  }
+
+  void SetOpacityModel(OpacityModel model, Real unitDistance = Real(1))
+  {
+    this->Model = model;
+    this->UnitDistance = unitDistance;
+  }
+  OpacityModel GetOpacityModel() const { return this->Model; }
+
+  // Empty string when usable; otherwise what is wrong.
+  std::string Validate() const
+  {
+    if (this->ColorValues.empty() || this->OpacityValues.empty())
+    {
+      return "the transfer function has no colour or no opacity knots";
+    }
+    auto sortedFinite = [](const std::vector<Real>& v)
+    {
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        if (!std::isfinite(v[i]) || (i > 0 && v[i] < v[i - 1]))
+        {
+          return false;
+        }
+      }
+      return true;
+    };
+    if (!sortedFinite(this->ColorValues) || !sortedFinite(this->OpacityValues))
+    {
+      return "transfer function knot values must be finite and sorted";
+    }
+    for (const Color& c : this->Colors)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        if (!(c[i] >= Real(0) && c[i] <= Real(1)))
+        {
+          return "transfer function colours must be in [0, 1]";
+        }
+      }
+    }
+    for (Real a : this->Opacities)
+    {
+      if (!(a >= Real(0)) || !std::isfinite(a))
+      {
+        return "transfer function opacities must be finite and non-negative";
+      }
+    }
+    if (this->Model == OpacityModel::Alpha && !(this->UnitDistance > Real(0)))
+    {
+      return "the opacity unit distance must be positive";
+    }
+    return std::string();
+  }
+
+  Color GetColor(Real s) const
+  {
+    if (std::isnan(s))
+    {
+      return Color(Real(0));
+    }
+    return Interpolate(this->ColorValues, this->Colors, s);
+  }
+
+  Real GetExtinction(Real s) const
+  {
+    if (std::isnan(s))
+    {
+      return Real(0);
+    }
+    const Real value = Interpolate(this->OpacityValues, this->Opacities, s);
+    if (this->Model == OpacityModel::Extinction)
+    {
+      return value;
+    }
+    if (value >= Real(1))
+    {
+      return OpaqueExtinction / this->UnitDistance;
+    }
+    return std::min(-std::log1p(-value), OpaqueExtinction) / this->UnitDistance;
+  }
+
+  // Largest colour component: bounds what the rest of a ray can add.
+  Real GetMaximumColor() const
+  {
+    Real m = Real(0);
+    for (const Color& c : this->Colors)
+    {
+      m = std::max({ m, c[0], c[1], c[2] });
+    }
+    return m;
+  }
+
+  // True when C or tau jumps at a scalar value in [lo, hi]: there Simpson's
+  // error estimate is unreliable (it assumes a smooth integrand).
+  bool HasJumpIn(Real lo, Real hi) const
+  {
+    return HasEqualPairIn(this->ColorValues, lo, hi) || HasEqualPairIn(this->OpacityValues, lo, hi);
+  }
+
+  // Sorted scalar values where C or tau has a kink or a jump.
+  std::vector<Real> GetKnotValues() const
+  {
+    std::vector<Real> all(this->ColorValues);
+    all.insert(all.end(), this->OpacityValues.begin(), this->OpacityValues.end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    return all;
+  }
+
+private:
+  static bool HasEqualPairIn(const std::vector<Real>& values, Real lo, Real hi)
+  {
+    auto i = std::lower_bound(values.begin(), values.end(), lo);
+    for (; i != values.end() && *i <= hi; ++i)
+    {
+      if (i + 1 != values.end() && *(i + 1) == *i)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  template <typename T>
+  static T Interpolate(const std::vector<Real>& values, const std::vector<T>& data, Real s)
+  {
+    if (s < values.front())
+    {
+      return data.front();
+    }
+    // First knot strictly above s: right-continuous at jumps.
+    const auto upper = std::upper_bound(values.begin(), values.end(), s);
+    if (upper == values.end())
+    {
+      return data.back();
+    }
+    const std::size_t i = static_cast<std::size_t>(upper - values.begin());
+    const Real w = (s - values[i - 1]) / (values[i] - values[i - 1]);
+    return data[i - 1] + (data[i] - data[i - 1]) * w;
+  }
+
+  std::vector<Real> ColorValues;
+  std::vector<Color> Colors;
+  std::vector<Real> OpacityValues;
+  std::vector<Real> Opacities;
+  OpacityModel Model = OpacityModel::Extinction;
+  Real UnitDistance = Real(1);
+};
+
+} // namespace numerics
+} // namespace avos
+
+#endif
