@@ -149,9 +149,8 @@ bool vtkVolvisRawReader::ReadHeader(int& components, int dimensions[3])
 }
 
 //------------------------------------------------------------------------------
-int vtkVolvisRawReader::RequestInformation(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkVolvisRawReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   int components = 0;
@@ -173,9 +172,8 @@ int vtkVolvisRawReader::RequestInformation(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-int vtkVolvisRawReader::RequestData(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkVolvisRawReader::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkImageData* output = vtkImageData::GetData(outInfo);
@@ -247,8 +245,7 @@ int vtkVolvisRawReader::RequestData(vtkInformation*,
   if (wordSize > 1 && this->DataByteOrderBigEndian != HostIsBigEndian())
   {
     vtkByteSwap::SwapVoidRange(scalars->GetVoidPointer(0),
-      static_cast<size_t>(scalars->GetNumberOfValues()),
-      static_cast<size_t>(wordSize));
+      static_cast<size_t>(scalars->GetNumberOfValues()), static_cast<size_t>(wordSize));
   }
   return 1;
 }

@@ -28,18 +28,12 @@ double MarschnerLobb(double x, double y, double z)
 }
 
 template <typename T>
-void Fill(const vtkAnalyticVolumeSource* self,
-  const int extent[6],
-  const double origin[3],
-  const double spacing[3],
-  double shift,
-  double scale,
-  T* out)
+void Fill(const vtkAnalyticVolumeSource* self, const int extent[6], const double origin[3],
+  const double spacing[3], double shift, double scale, T* out)
 {
   const vtkIdType nx = extent[1] - extent[0] + 1;
   const vtkIdType ny = extent[3] - extent[2] + 1;
-  vtkSMPTools::For(extent[4],
-    extent[5] + 1,
+  vtkSMPTools::For(extent[4], extent[5] + 1,
     [&](vtkIdType zBegin, vtkIdType zEnd)
     {
       for (vtkIdType k = zBegin; k < zEnd; ++k)
@@ -128,9 +122,8 @@ bool vtkAnalyticVolumeSource::CheckParameters()
 }
 
 //------------------------------------------------------------------------------
-int vtkAnalyticVolumeSource::RequestInformation(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkAnalyticVolumeSource::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   if (!this->CheckParameters())
@@ -140,9 +133,8 @@ int vtkAnalyticVolumeSource::RequestInformation(vtkInformation*,
     vtkImageData::GetData(outInfo)->Initialize();
     return 0;
   }
-  const int extent[6] = {
-    0, this->Dimensions[0] - 1, 0, this->Dimensions[1] - 1, 0, this->Dimensions[2] - 1
-  };
+  const int extent[6] = { 0, this->Dimensions[0] - 1, 0, this->Dimensions[1] - 1, 0,
+    this->Dimensions[2] - 1 };
   double spacing[3];
   this->ComputeSpacing(spacing);
   const double origin[3] = { this->Bounds[0], this->Bounds[2], this->Bounds[4] };
@@ -155,9 +147,8 @@ int vtkAnalyticVolumeSource::RequestInformation(vtkInformation*,
 }
 
 //------------------------------------------------------------------------------
-int vtkAnalyticVolumeSource::RequestData(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+int vtkAnalyticVolumeSource::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkImageData* output = vtkImageData::GetData(outInfo);
@@ -181,22 +172,12 @@ int vtkAnalyticVolumeSource::RequestData(vtkInformation*,
 
   if (this->OutputScalarType == VTK_FLOAT)
   {
-    Fill(this,
-      extent,
-      origin,
-      spacing,
-      this->ScalarShift,
-      this->ScalarScale,
+    Fill(this, extent, origin, spacing, this->ScalarShift, this->ScalarScale,
       static_cast<float*>(scalars->GetVoidPointer(0)));
   }
   else
   {
-    Fill(this,
-      extent,
-      origin,
-      spacing,
-      this->ScalarShift,
-      this->ScalarScale,
+    Fill(this, extent, origin, spacing, this->ScalarShift, this->ScalarScale,
       static_cast<double*>(scalars->GetVoidPointer(0)));
   }
   return 1;

@@ -111,10 +111,8 @@ inline double ExpQuadraticIntegral(double a, double b, double h)
 }
 
 // Exact RGBA of s(t) = s0 + k t, t in [0, D], through tf (extinction model).
-inline glm::dvec4 LinearField(const avos::numerics::TransferFunction<double>& tf,
-  double s0,
-  double k,
-  double D)
+inline glm::dvec4 LinearField(
+  const avos::numerics::TransferFunction<double>& tf, double s0, double k, double D)
 {
   // Piece boundaries: where s crosses a knot value.
   std::vector<double> cuts{ 0.0, D };

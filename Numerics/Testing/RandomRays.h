@@ -61,10 +61,8 @@ Ray<Real> Make(unsigned seed)
       }
       v /= (a[0] + a[1] + a[2]);
       ray.TF.AddOpacityKnot(Real(s), Real(tauMax * v * v));
-      ray.TF.AddColorKnot(Real(s),
-        Real(0.5 + 0.5 * std::sin(7 * s + p[0])),
-        Real(0.5 + 0.5 * std::sin(5 * s + p[1])),
-        Real(v));
+      ray.TF.AddColorKnot(Real(s), Real(0.5 + 0.5 * std::sin(7 * s + p[0])),
+        Real(0.5 + 0.5 * std::sin(5 * s + p[1])), Real(v));
     }
   }
   else

@@ -47,6 +47,22 @@ TransferFunction<double> Piecewise()
   return tf;
 }
 
+// Oracle 4 of Oracles.h: s = lambda / (1 + t), tau = s, colour g s / lambda.
+struct PowerLaw
+{
+  double Lambda = 1.5;
+  glm::dvec3 G{ 1.0, 0.5, 0.25 };
+  TransferFunction<double> TF = Identity(G, Lambda);
+
+  double operator()(double t) const { return this->Lambda / (1.0 + t); }
+  glm::dvec4 Exact(double D) const
+  {
+    const double l = this->Lambda;
+    const double colour = l / (l + 1.0) * (1.0 - std::pow(1.0 + D, -l - 1.0));
+    return glm::dvec4(this->G * colour, 1.0 - std::pow(1.0 + D, -l));
+  }
+};
+
 double MaxError(const glm::dvec4& a, const glm::dvec4& b)
 {
   const glm::dvec4 d = glm::abs(a - b);
@@ -123,11 +139,8 @@ TEST(Oracles, LinearFieldPiecewiseLinearTransferFunction)
   {
     double s0, k, D;
   };
-  for (const Case& c : { Case{ 0.0, 0.05, 20.0 },
-         Case{ 1.0, -0.037, 27.0 },
-         Case{ 0.1, 0.2, 4.5 },
-         Case{ -0.2, 0.011, 100.0 },
-         Case{ 0.35, 0.0, 10.0 } })
+  for (const Case& c : { Case{ 0.0, 0.05, 20.0 }, Case{ 1.0, -0.037, 27.0 }, Case{ 0.1, 0.2, 4.5 },
+         Case{ -0.2, 0.011, 100.0 }, Case{ 0.35, 0.0, 10.0 } })
   {
     auto field = [&](double t) { return c.s0 + c.k * t; };
     const glm::dvec4 exact = oracles::LinearField(tf, c.s0, c.k, c.D);
@@ -164,16 +177,11 @@ TEST(Oracles, SinusoidalField)
 
 TEST(Oracles, PowerLawField)
 {
-  const double lambda = 1.5, D = 30.0;
-  const glm::dvec3 g(1.0, 0.5, 0.25);
-  const auto tf = Identity(g, lambda);
-  auto field = [&](double t) { return lambda / (1.0 + t); };
-  const double colour = lambda / (lambda + 1.0) * (1.0 - std::pow(1.0 + D, -lambda - 1.0));
-  const glm::dvec4 exact(g * colour, 1.0 - std::pow(1.0 + D, -lambda));
-  EXPECT_LT(MaxError(IntegrateReference(field, tf, D).RGBA, exact), 1e-6);
-  EXPECT_LT(
-    MaxError(IntegrateAdaptive(field, tf, D, Settings(1e-3, Strategy::Decoupled)).RGBA, exact),
-    1e-3);
+  const PowerLaw field;
+  const double D = 30.0;
+  const auto adaptive = IntegrateAdaptive(field, field.TF, D, Settings(1e-3, Strategy::Decoupled));
+  EXPECT_LT(MaxError(IntegrateReference(field, field.TF, D).RGBA, field.Exact(D)), 1e-6);
+  EXPECT_LT(MaxError(adaptive.RGBA, field.Exact(D)), 1e-3);
 }
 
 // Slope of log(error) against log(h) over halving steps, least squares.
@@ -195,12 +203,10 @@ double ConvergenceOrder(const std::vector<double>& h, const std::vector<double>&
 TEST(Convergence, RiemannFirstOrderSimpsonFourthOrder)
 {
   // A smooth non-polynomial ray: the power-law oracle.
-  const double lambda = 1.5, D = 8.0;
-  const glm::dvec3 g(1.0, 0.5, 0.25);
-  const auto tf = Identity(g, lambda);
-  auto field = [&](double t) { return lambda / (1.0 + t); };
-  const double colour = lambda / (lambda + 1.0) * (1.0 - std::pow(1.0 + D, -lambda - 1.0));
-  const glm::dvec4 exact(g * colour, 1.0 - std::pow(1.0 + D, -lambda));
+  const PowerLaw field;
+  const auto& tf = field.TF;
+  const double D = 8.0;
+  const glm::dvec4 exact = field.Exact(D);
 
   std::vector<double> hs, riemannLinear, riemannExp, simpson;
   for (double h = 0.5; h > 0.01; h *= 0.5)

@@ -73,23 +73,18 @@ TEST_P(RandomRays, MeetTolerance)
   settings.MinimumStep = 1e-3;
   settings.Coupling = std::get<1>(GetParam());
   const auto fraction = WithinTolerance(settings, settings.Tolerance);
-  std::printf("eps %g %s: within eps R %.4f%% G %.4f%% B %.4f%% A %.4f%%\n",
-    settings.Tolerance,
-    settings.Coupling == Strategy::Coupled ? "coupled" : "decoupled",
-    100 * fraction[0],
-    100 * fraction[1],
-    100 * fraction[2],
-    100 * fraction[3]);
+  std::printf("eps %g %s: within eps R %.4f%% G %.4f%% B %.4f%% A %.4f%%\n", settings.Tolerance,
+    settings.Coupling == Strategy::Coupled ? "coupled" : "decoupled", 100 * fraction[0],
+    100 * fraction[1], 100 * fraction[2], 100 * fraction[3]);
   for (int c = 0; c < 4; ++c)
   {
     EXPECT_GE(fraction[c], 0.999) << "channel " << c;
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Tolerances,
-  RandomRays,
-  testing::Combine(testing::Values(1e-2, 5e-3, 1e-3),
-    testing::Values(Strategy::Coupled, Strategy::Decoupled)));
+INSTANTIATE_TEST_SUITE_P(Tolerances, RandomRays,
+  testing::Combine(
+    testing::Values(1e-2, 5e-3, 1e-3), testing::Values(Strategy::Coupled, Strategy::Decoupled)));
 
 TEST(RandomRaysPaperSettings, Report)
 {
@@ -98,12 +93,8 @@ TEST(RandomRaysPaperSettings, Report)
   {
     settings.Tolerance = eps;
     const auto f = WithinTolerance(settings, eps);
-    std::printf("paper settings, eps %g: within eps R %.3f%% G %.3f%% B %.3f%% A %.3f%%\n",
-      eps,
-      100 * f[0],
-      100 * f[1],
-      100 * f[2],
-      100 * f[3]);
+    std::printf("paper settings, eps %g: within eps R %.3f%% G %.3f%% B %.3f%% A %.3f%%\n", eps,
+      100 * f[0], 100 * f[1], 100 * f[2], 100 * f[3]);
     for (double v : f)
     {
       EXPECT_GT(v, 0.5); // sanity only: see the file comment
@@ -123,14 +114,7 @@ TEST(RandomRaysFloat, AccuracyFloor)
   const auto g = WithinTolerance(settings, 1e-4);
   std::printf("float, eps 1e-3: within 1e-3 R %.3f%% G %.3f%% B %.3f%% A %.3f%%; within 1e-4 "
               "R %.3f%% G %.3f%% B %.3f%% A %.3f%%\n",
-    100 * f[0],
-    100 * f[1],
-    100 * f[2],
-    100 * f[3],
-    100 * g[0],
-    100 * g[1],
-    100 * g[2],
-    100 * g[3]);
+    100 * f[0], 100 * f[1], 100 * f[2], 100 * f[3], 100 * g[0], 100 * g[1], 100 * g[2], 100 * g[3]);
   for (double v : f)
   {
     EXPECT_GE(v, 0.999);

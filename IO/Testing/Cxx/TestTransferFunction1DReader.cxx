@@ -25,9 +25,8 @@ int TestTransferFunction1DReader(int argc, char* argv[])
     "4\n0.00 0\n0.2 60\n0.15 150.5\n1e-3 255\n");
   reader->SetFileName(path.c_str());
   ok &= reader->Update() && errors.None("valid file");
-  const double colors[3][4] = {
-    { 0, 0.0, 0.1, 0.2 }, { 60.25, 1.0, 0.5, 0.3 }, { 256, 0.6, 0.0, 0.7 }
-  };
+  const double colors[3][4] = { { 0, 0.0, 0.1, 0.2 }, { 60.25, 1.0, 0.5, 0.3 },
+    { 256, 0.6, 0.0, 0.7 } };
   const double taus[4][2] = { { 0, 0.0 }, { 60, 0.2 }, { 150.5, 0.15 }, { 255, 1e-3 } };
   vtkColorTransferFunction* color = reader->GetColorTransferFunction();
   vtkPiecewiseFunction* tau = reader->GetExtinctionFunction();

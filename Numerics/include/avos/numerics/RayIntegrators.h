@@ -364,25 +364,30 @@ struct StepControl
   }
 };
 
+// Empty when the transfer function, the ray length and the step are usable.
+template <typename Real>
+std::string ValidateRay(const TransferFunction<Real>& tf, Real D, Real h)
+{
+  std::string error = tf.Validate();
+  if (error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
+  {
+    error = "the step must be positive and finite";
+  }
+  if (error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
+  {
+    error = "the ray length must be finite and non-negative";
+  }
+  return error;
+}
+
 } // namespace detail
 
 template <typename Real, typename Field>
-RayResult<Real> IntegrateRiemann(const Field& field,
-  const TransferFunction<Real>& tf,
-  Real D,
-  Real h,
-  RiemannForm form)
+RayResult<Real> IntegrateRiemann(
+  const Field& field, const TransferFunction<Real>& tf, Real D, Real h, RiemannForm form)
 {
   RayResult<Real> result;
-  result.Error = tf.Validate();
-  if (result.Error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
-  {
-    result.Error = "the step must be positive and finite";
-  }
-  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
-  {
-    result.Error = "the ray length must be finite and non-negative";
-  }
+  result.Error = detail::ValidateRay(tf, D, h);
   if (!result.Error.empty() || D == Real(0))
   {
     return result;
@@ -409,21 +414,11 @@ RayResult<Real> IntegrateRiemann(const Field& field,
 }
 
 template <typename Real, typename Field>
-RayResult<Real> IntegrateSimpson(const Field& field,
-  const TransferFunction<Real>& tf,
-  Real D,
-  Real h)
+RayResult<Real> IntegrateSimpson(
+  const Field& field, const TransferFunction<Real>& tf, Real D, Real h)
 {
   RayResult<Real> result;
-  result.Error = tf.Validate();
-  if (result.Error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
-  {
-    result.Error = "the step must be positive and finite";
-  }
-  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
-  {
-    result.Error = "the ray length must be finite and non-negative";
-  }
+  result.Error = detail::ValidateRay(tf, D, h);
   if (!result.Error.empty() || D == Real(0))
   {
     return result;
@@ -457,22 +452,15 @@ RayResult<Real> IntegrateSimpson(const Field& field,
 // is exactly zero. Samples are shared: a halved step reuses three of its five
 // samples, and the coupled outer integral's first try reuses the inner one's.
 template <typename Real, typename Field>
-RayResult<Real> IntegrateAdaptive(const Field& field,
-  const TransferFunction<Real>& tf,
-  Real D,
-  const AdaptiveSettings<Real>& settings,
-  std::vector<StepRecord<Real>>* steps = nullptr)
+RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Real>& tf, Real D,
+  const AdaptiveSettings<Real>& settings, std::vector<StepRecord<Real>>* steps = nullptr)
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
-  result.Error = tf.Validate();
+  result.Error = settings.Validate();
   if (result.Error.empty())
   {
-    result.Error = settings.Validate();
-  }
-  if (result.Error.empty() && (!(D >= Real(0)) || !std::isfinite(D)))
-  {
-    result.Error = "the ray length must be finite and non-negative";
+    result.Error = detail::ValidateRay(tf, D, settings.MaximumStep);
   }
   if (!result.Error.empty() || D == Real(0))
   {
