@@ -364,6 +364,29 @@ struct StepControl
   }
 };
 
+// Algorithm 2's inner loop: halve the step until error(bracket) is at most
+// tolerance * K, or K has reached h_min. Returns true when the step is forced
+// (taken at h_min although its estimate fails).
+template <typename Real, typename SamplerT, typename Error>
+bool Refine(Bracket<Real>& bracket, const SamplerT& sample, StepControl<Real>& control,
+  Real tolerance, RayStatistics<Real>& stats, Error error)
+{
+  for (;;)
+  {
+    if (error(bracket) <= tolerance * bracket.K)
+    {
+      return false;
+    }
+    if (bracket.K <= control.Min)
+    {
+      return true;
+    }
+    ++stats.Rejected;
+    control.Failed();
+    bracket.Halve(sample);
+  }
+}
+
 // Empty when the transfer function, the ray length and the step are usable.
 template <typename Real>
 std::string ValidateRay(const TransferFunction<Real>& tf, Real D, Real h)
@@ -494,41 +517,33 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
     const Real T = std::exp(-theta);
     const Real remaining = D - t;
     in.Fill(sample, t, std::min(inner.H, remaining));
-    bool innerForced = false;
-    for (;;)
-    {
-      const auto pair = in.Inner();
-      const Real error = T * in.EstimateScale(tf) * detail::ErrorEstimate(pair.S, pair.D);
-      if (error <= innerTolerance * in.K)
+    typename detail::Bracket<Real>::template Pair<Real> innerPair;
+    const bool innerForced = detail::Refine(in, sample, inner, innerTolerance, stats,
+      [&](const detail::Bracket<Real>& b)
       {
-        break;
-      }
-      if (in.K <= hmin)
-      {
-        innerForced = true;
-        break;
-      }
-      ++stats.Rejected;
-      inner.Failed();
-      in.Halve(sample);
-    }
+        innerPair = b.Inner();
+        return T * b.EstimateScale(tf) * detail::ErrorEstimate(innerPair.S, innerPair.D);
+      });
     const Real h = in.K;
     const Real tEnd = in.K == remaining ? D : t + h;
     stats.Accept(t, h, false);
-    Real innerValue = std::max(in.Inner().Corrected(), Real(0));
+    Real innerValue = std::max(innerPair.Corrected(), Real(0));
     if (innerForced)
     {
       // The stable rule over the whole step, colour included: no outer pass.
       Real thetaEnd = theta;
       in.Stable(thetaEnd, color);
       innerValue = thetaEnd - theta;
-      if (stats.Steps)
-      {
-        stats.Steps->push_back({ t, h });
-      }
     }
 
-    if (!innerForced && !in.AllTransparent())
+    if (innerForced || in.AllTransparent())
+    {
+      if (stats.Steps)
+      {
+        stats.Steps->push_back({ t, h }); // no outer pass: the inner step is the step
+      }
+    }
+    else
     {
       // Outer integral over [t, tEnd].
       if (settings.Coupling == Strategy::Coupled)
@@ -550,31 +565,20 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
         {
           out.Fill(sample, u, k);
         }
-        bool outerForced = false;
-        for (;;)
-        {
-          const auto pair = out.Outer(thetaU);
-          if (out.EstimateScale(tf) * detail::ErrorEstimate(pair.S, pair.D) <=
-            outerTolerance * out.K)
+        typename detail::Bracket<Real>::template Pair<glm::vec<3, Real>> outerPair;
+        const bool outerForced = detail::Refine(out, sample, outer, outerTolerance, stats,
+          [&](const detail::Bracket<Real>& b)
           {
-            break;
-          }
-          if (out.K <= hmin)
-          {
-            outerForced = true;
-            break;
-          }
-          ++stats.Rejected;
-          outer.Failed();
-          out.Halve(sample);
-        }
+            outerPair = b.Outer(thetaU);
+            return b.EstimateScale(tf) * detail::ErrorEstimate(outerPair.S, outerPair.D);
+          });
         if (outerForced)
         {
           out.Stable(thetaU, color);
         }
         else
         {
-          color += out.Outer(thetaU).Corrected();
+          color += outerPair.Corrected();
           thetaU += std::max(out.Inner().Corrected(), Real(0));
         }
         const Real uEnd = out.K == tEnd - u ? tEnd : u + out.K;
@@ -583,10 +587,6 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
         u = uEnd;
         out.S[0] = out.S[4];
       }
-    }
-    else if (!innerForced && stats.Steps)
-    {
-      stats.Steps->push_back({ t, h }); // transparent: the inner step is the step
     }
 
     theta += innerValue;
