@@ -124,7 +124,11 @@ public:
     {
       return Real(0);
     }
-    const Real value = Interpolate(this->OpacityValues, this->Opacities, s);
+    return this->ToExtinction(Interpolate(this->OpacityValues, this->Opacities, s));
+  }
+
+  Real ToExtinction(Real value) const
+  {
     if (this->Model == OpacityModel::Extinction)
     {
       return value;
@@ -147,11 +151,33 @@ public:
     return m;
   }
 
+  // The largest tau(s) for s in [lo, hi]: tau is piecewise linear in the
+  // opacity knots, and the Alpha model's map is monotone, so the maximum is at
+  // an end or at a knot inside. Zero means [lo, hi] is fully transparent:
+  // empty-space skipping relies on it.
+  Real GetMaximumExtinction(Real lo, Real hi) const
+  {
+    Real m = std::max(this->GetExtinction(lo), this->GetExtinction(hi));
+    auto i = std::lower_bound(this->OpacityValues.begin(), this->OpacityValues.end(), lo);
+    for (; i != this->OpacityValues.end() && *i <= hi; ++i)
+    {
+      const std::size_t k = static_cast<std::size_t>(i - this->OpacityValues.begin());
+      m = std::max(m, this->ToExtinction(this->Opacities[k]));
+    }
+    return m;
+  }
+
   // True when C or tau jumps at a scalar value in [lo, hi]: there Simpson's
   // error estimate is unreliable (it assumes a smooth integrand).
   bool HasJumpIn(Real lo, Real hi) const
   {
     return HasEqualPairIn(this->ColorValues, lo, hi) || HasEqualPairIn(this->OpacityValues, lo, hi);
+  }
+
+  // True when C or tau has a kink (or a jump) at a scalar value in [lo, hi].
+  bool HasKnotIn(Real lo, Real hi) const
+  {
+    return HasValueIn(this->ColorValues, lo, hi) || HasValueIn(this->OpacityValues, lo, hi);
   }
 
   // Sorted scalar values where C or tau has a kink or a jump.
@@ -165,6 +191,12 @@ public:
   }
 
 private:
+  static bool HasValueIn(const std::vector<Real>& values, Real lo, Real hi)
+  {
+    auto i = std::lower_bound(values.begin(), values.end(), lo);
+    return i != values.end() && *i <= hi;
+  }
+
   static bool HasEqualPairIn(const std::vector<Real>& values, Real lo, Real hi)
   {
     auto i = std::lower_bound(values.begin(), values.end(), lo);

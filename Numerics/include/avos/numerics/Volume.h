@@ -1,0 +1,92 @@
+// A scalar volume on a regular grid, sampled along rays.
+//
+// Coordinates are continuous indices: grid point (i, j, k) sits at (i, j, k),
+// and the volume fills [0, n - 1] on each axis. The scalar between grid points
+// is the trilinear interpolant of the cell's eight corners, so on any cell it
+// lies between the corners' minimum and maximum: the empty-space map
+// (EmptySpace.h) relies on that.
+#ifndef avos_numerics_Volume_h
+#define avos_numerics_Volume_h
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cstddef>
+
+namespace avos
+{
+namespace numerics
+{
+
+template <typename Real, typename Storage>
+class TrilinearVolume
+{
+public:
+  using Point = glm::vec<3, Real>;
+
+  // `dimensions` must be at least 2 on every axis; `data` is x fastest.
+  TrilinearVolume(const Storage* data, const int dimensions[3])
+    : Data(data)
+    , Nx(dimensions[0])
+    , Ny(dimensions[1])
+    , Nz(dimensions[2])
+    , Sy(static_cast<std::ptrdiff_t>(dimensions[0]))
+    , Sz(static_cast<std::ptrdiff_t>(dimensions[0]) * dimensions[1])
+  {
+  }
+
+  // Points outside the volume are clamped onto its boundary: a ray clipped to
+  // the box may stray from it by rounding only.
+  Real operator()(const Point& p) const
+  {
+    int i, j, k;
+    Real fx, fy, fz;
+    Locate(p.x, this->Nx, i, fx);
+    Locate(p.y, this->Ny, j, fy);
+    Locate(p.z, this->Nz, k, fz);
+    const Storage* c = this->Data + i + j * this->Sy + k * this->Sz;
+    const Real v000 = Real(c[0]), v100 = Real(c[1]);
+    const Real v010 = Real(c[this->Sy]), v110 = Real(c[this->Sy + 1]);
+    const Real v001 = Real(c[this->Sz]), v101 = Real(c[this->Sz + 1]);
+    const Real v011 = Real(c[this->Sz + this->Sy]), v111 = Real(c[this->Sz + this->Sy + 1]);
+    const Real v00 = v000 + fx * (v100 - v000);
+    const Real v10 = v010 + fx * (v110 - v010);
+    const Real v01 = v001 + fx * (v101 - v001);
+    const Real v11 = v011 + fx * (v111 - v011);
+    const Real v0 = v00 + fy * (v10 - v00);
+    const Real v1 = v01 + fy * (v11 - v01);
+    return v0 + fz * (v1 - v0);
+  }
+
+private:
+  // Cell index in [0, n - 2] and the fraction inside it, for a NaN too (it
+  // lands on cell 0: a NaN position is a caller's bug, never a crash).
+  static void Locate(Real x, int n, int& cell, Real& fraction)
+  {
+    const Real last = Real(n - 1);
+    x = x > Real(0) ? (x < last ? x : last) : Real(0);
+    cell = std::min(static_cast<int>(x), n - 2);
+    fraction = x - Real(cell);
+  }
+
+  const Storage* Data;
+  int Nx, Ny, Nz;
+  std::ptrdiff_t Sy, Sz;
+};
+
+// The scalar along the ray origin + t direction, t in voxel units: the
+// `field` argument of the evaluators in RayIntegrators.h.
+template <typename Real, typename VolumeT>
+struct RayField
+{
+  const VolumeT& Volume;
+  glm::vec<3, Real> Origin;
+  glm::vec<3, Real> Direction;
+
+  Real operator()(Real t) const { return this->Volume(this->Origin + t * this->Direction); }
+};
+
+} // namespace numerics
+} // namespace avos
+
+#endif
