@@ -1,0 +1,809 @@
+#include "vtkAdaptiveVolumeMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkRayCastImageDisplayHelper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSMPThreadLocal.h"
+#include "vtkSMPTools.h"
+#include "vtkTimerLog.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/TransferFunction.h"
+#include "avos/numerics/Volume.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace
+{
+namespace an = avos::numerics;
+using TransferFunction = an::TransferFunction<double>;
+using Segments = std::vector<an::Interval<double>>;
+
+constexpr int TileSize = 16;
+// Widening of the empty-space segments, in voxel units: far above rounding,
+// far below any step.
+constexpr double SegmentPad = 1e-6;
+// Sub-knots per node interval where VTK's function is not linear in RGB
+// (midpoint/sharpness, HSV/Lab/diverging colour spaces).
+constexpr int ResampledKnots = 16;
+
+// What a frame's ray cast depends on, besides the data and the property.
+struct FrameGeometry
+{
+  double NDCToWorld[16];    // inverse of the camera's composite projection
+  double WorldToGrid[16];   // world -> continuous grid index (from 0)
+  double Voxel = 1.0;       // world length of one voxel unit
+  int Dimensions[3] = { 0, 0, 0 };
+  int Width = 0;
+  int Height = 0;
+  int Rect[4] = { 0, 0, 0, 0 }; // pixels cast: [x0, x1) x [y0, y1)
+  std::vector<float> Depth;     // the depth buffer, Width x Height
+};
+
+struct ThreadStatistics
+{
+  vtkIdType Rays = 0;
+  vtkIdType Samples = 0;
+  vtkIdType MaximumSamples = 0;
+  vtkIdType Rejected = 0;
+};
+
+glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
+{
+  glm::dvec4 r;
+  for (int i = 0; i < 4; ++i)
+  {
+    r[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3] * p[3];
+  }
+  return r;
+}
+
+glm::dvec3 ToPoint(const glm::dvec4& p)
+{
+  return glm::dvec3(p) / p.w;
+}
+
+// The pixel's ray in grid coordinates, t in voxel units from the volume box's
+// entry, D the length inside the box (up to the depth buffer). False: miss.
+bool PixelRay(const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction,
+  double& D)
+{
+  const double nx = 2.0 * (x + 0.5) / g.Width - 1.0;
+  const double ny = 2.0 * (y + 0.5) / g.Height - 1.0;
+  const double depth = g.Depth[static_cast<std::size_t>(y) * g.Width + x];
+  const glm::dvec3 nearWorld = ToPoint(Multiply(g.NDCToWorld, glm::dvec4(nx, ny, -1.0, 1.0)));
+  const glm::dvec3 farWorld =
+    ToPoint(Multiply(g.NDCToWorld, glm::dvec4(nx, ny, 2.0 * depth - 1.0, 1.0)));
+  const double length = glm::length(farWorld - nearWorld) / g.Voxel;
+  if (!(length > 0.0) || !std::isfinite(length))
+  {
+    return false;
+  }
+  const glm::dvec3 nearGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(nearWorld, 1.0)));
+  const glm::dvec3 farGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(farWorld, 1.0)));
+  direction = (farGrid - nearGrid) / length;
+  // Clip [0, length] to the box [0, n - 1]^3 (slabs).
+  double t0 = 0.0, t1 = length;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double hi = g.Dimensions[a] - 1;
+    if (direction[a] == 0.0)
+    {
+      if (nearGrid[a] < 0.0 || nearGrid[a] > hi)
+      {
+        return false;
+      }
+      continue;
+    }
+    double ta = (0.0 - nearGrid[a]) / direction[a];
+    double tb = (hi - nearGrid[a]) / direction[a];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (!(t0 < t1))
+  {
+    return false;
+  }
+  origin = nearGrid + t0 * direction;
+  D = t1 - t0;
+  return true;
+}
+
+// The integration settings of one frame.
+struct Method
+{
+  int Kind = vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED;
+  an::AdaptiveSettings<double> Adaptive;
+  double SampleDistance = 0.5;
+  double TerminationBound = 0.0;
+};
+
+template <typename Storage>
+class RayCaster
+{
+public:
+  RayCaster(const Storage* data, const FrameGeometry& geometry, const TransferFunction& tf,
+    const an::EmptySpaceMap<double>* map, const Method& method, float* image,
+    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<Segments>& segments)
+    : Volume(data, geometry.Dimensions)
+    , Geometry(geometry)
+    , TF(tf)
+    , Map(map)
+    , Settings(method)
+    , Image(image)
+    , Statistics(statistics)
+    , SegmentBuffers(segments)
+  {
+    this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
+  }
+
+  // Tiles [begin, end) in row-major order over the cast rectangle.
+  void operator()(vtkIdType begin, vtkIdType end)
+  {
+    ThreadStatistics& stats = this->Statistics.Local();
+    Segments& segments = this->SegmentBuffers.Local();
+    const int* rect = this->Geometry.Rect;
+    for (vtkIdType tile = begin; tile < end; ++tile)
+    {
+      const int x0 = rect[0] + static_cast<int>(tile % this->TilesX) * TileSize;
+      const int y0 = rect[2] + static_cast<int>(tile / this->TilesX) * TileSize;
+      for (int y = y0; y < std::min(y0 + TileSize, rect[3]); ++y)
+      {
+        for (int x = x0; x < std::min(x0 + TileSize, rect[1]); ++x)
+        {
+          this->Cast(x, y, stats, segments);
+        }
+      }
+    }
+  }
+
+  vtkIdType NumberOfTiles(int rowBegin, int rowEnd) const
+  {
+    return static_cast<vtkIdType>(rowEnd - rowBegin) * this->TilesX;
+  }
+
+private:
+  void Cast(int x, int y, ThreadStatistics& stats, Segments& segments)
+  {
+    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Width + x);
+    glm::dvec3 origin, direction;
+    double D;
+    if (!PixelRay(this->Geometry, x, y, origin, direction, D))
+    {
+      return;
+    }
+    ++stats.Rays;
+    if (this->Map)
+    {
+      this->Map->Segments(origin, direction, D, SegmentPad, segments);
+    }
+    else
+    {
+      segments.assign(1, { 0.0, D });
+    }
+    if (segments.empty())
+    {
+      return;
+    }
+    const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ this->Volume, origin,
+      direction };
+    an::RayResult<double> result;
+    switch (this->Settings.Kind)
+    {
+      case vtkAdaptiveVolumeMapper::RIEMANN:
+        result = an::IntegrateRiemann(field, this->TF, D, this->Settings.SampleDistance,
+          an::RiemannForm::Exponential, segments.data(), segments.size(),
+          this->Settings.TerminationBound);
+        break;
+      case vtkAdaptiveVolumeMapper::REFERENCE:
+        result = an::IntegrateReference(field, this->TF, segments.data(), segments.size());
+        break;
+      default:
+        result = an::IntegrateAdaptive(
+          field, this->TF, segments.data(), segments.size(), this->Settings.Adaptive);
+    }
+    for (int c = 0; c < 4; ++c)
+    {
+      pixel[c] = static_cast<float>(result.RGBA[c]);
+    }
+    stats.Samples += result.Statistics.Samples;
+    stats.MaximumSamples = std::max<vtkIdType>(stats.MaximumSamples, result.Statistics.Samples);
+    stats.Rejected += result.Statistics.Rejected;
+  }
+
+  an::TrilinearVolume<double, Storage> Volume;
+  const FrameGeometry& Geometry;
+  const TransferFunction& TF;
+  const an::EmptySpaceMap<double>* Map;
+  const Method& Settings;
+  float* Image;
+  vtkSMPThreadLocal<ThreadStatistics>& Statistics;
+  vtkSMPThreadLocal<Segments>& SegmentBuffers;
+  int TilesX = 0;
+};
+
+// VTK's transfer functions as piecewise-linear knots. Where VTK does not
+// interpolate linearly in RGB (midpoint or sharpness moved, non-RGB colour
+// space), the interval is resampled with ResampledKnots sub-knots.
+std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf)
+{
+  if (property->GetColorChannels(0) == 1)
+  {
+    vtkPiecewiseFunction* gray = property->GetGrayTransferFunction(0);
+    const int n = gray ? gray->GetSize() : 0;
+    if (n == 0)
+    {
+      return "the gray transfer function is empty";
+    }
+    for (int i = 0; i < n; ++i)
+    {
+      double node[4], next[4];
+      gray->GetNodeValue(i, node);
+      tf.AddColorKnot(node[0], node[1], node[1], node[1]);
+      if (i + 1 < n && (node[2] != 0.5 || node[3] != 0.0))
+      {
+        gray->GetNodeValue(i + 1, next);
+        for (int k = 1; k < ResampledKnots; ++k)
+        {
+          const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
+          const double v = gray->GetValue(s);
+          tf.AddColorKnot(s, v, v, v);
+        }
+      }
+    }
+    return std::string();
+  }
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+  const int n = color ? color->GetSize() : 0;
+  if (n == 0)
+  {
+    return "the colour transfer function is empty";
+  }
+  const bool linearSpace = color->GetColorSpace() == VTK_CTF_RGB;
+  for (int i = 0; i < n; ++i)
+  {
+    double node[6], next[6];
+    color->GetNodeValue(i, node);
+    tf.AddColorKnot(node[0], node[1], node[2], node[3]);
+    if (i + 1 < n && (!linearSpace || node[4] != 0.5 || node[5] != 0.0))
+    {
+      color->GetNodeValue(i + 1, next);
+      for (int k = 1; k < ResampledKnots; ++k)
+      {
+        const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
+        double rgb[3];
+        color->GetColor(s, rgb);
+        tf.AddColorKnot(s, rgb[0], rgb[1], rgb[2]);
+      }
+    }
+  }
+  return std::string();
+}
+
+std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf)
+{
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  const int n = opacity ? opacity->GetSize() : 0;
+  if (n == 0)
+  {
+    return "the scalar opacity function is empty";
+  }
+  for (int i = 0; i < n; ++i)
+  {
+    double node[4], next[4];
+    opacity->GetNodeValue(i, node);
+    tf.AddOpacityKnot(node[0], node[1]);
+    if (i + 1 < n && (node[2] != 0.5 || node[3] != 0.0))
+    {
+      opacity->GetNodeValue(i + 1, next);
+      for (int k = 1; k < ResampledKnots; ++k)
+      {
+        const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
+        tf.AddOpacityKnot(s, opacity->GetValue(s));
+      }
+    }
+  }
+  return std::string();
+}
+
+template <typename Storage>
+std::size_t ComputeRanges(an::EmptySpaceMap<double>& map, const Storage* data)
+{
+  std::atomic<std::size_t> nans(0);
+  vtkSMPTools::For(0, map.GetNumberOfBlocks(2),
+    [&](int begin, int end) { nans += map.ComputeRanges(data, begin, end); });
+  return nans;
+}
+} // namespace
+
+class vtkAdaptiveVolumeMapper::vtkInternals
+{
+public:
+  // Data: the empty-space map's ranges.
+  vtkDataArray* Scalars = nullptr;
+  vtkMTimeType ScalarsTime = 0;
+  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
+  an::EmptySpaceMap<double> Map;
+  std::size_t NaNCount = 0;
+  vtkTimeStamp RangesTime;
+
+  // Property: the transfer function and the blocks' visibility.
+  TransferFunction TF;
+  vtkMTimeType PropertyTime = 0;
+  int OpacityModel = -1;
+  double Voxel = 0.0;
+  vtkTimeStamp ClassifyTime;
+  std::size_t VisibleBlocks = 0;
+
+  // Frame: what the last image depends on.
+  std::array<double, 16> Projection{};
+  std::array<double, 16> VolumeMatrix{};
+  std::array<int, 4> Viewport{ { 0, 0, 0, 0 } };
+  std::vector<float> LastDepth;
+  vtkMTimeType FrameMapperTime = 0;
+  vtkMTimeType FrameClassifyTime = 0;
+  vtkMTimeType FrameRangesTime = 0;
+  bool HaveImage = false;
+
+  FrameGeometry Geometry;
+  vtkNew<vtkImageData> Image;
+  std::vector<std::uint16_t> Display;
+  vtkSmartPointer<vtkRayCastImageDisplayHelper> DisplayHelper;
+  bool WarnedShading = false;
+};
+
+vtkStandardNewMacro(vtkAdaptiveVolumeMapper);
+
+vtkAdaptiveVolumeMapper::vtkAdaptiveVolumeMapper()
+  : Internals(new vtkInternals)
+{
+  this->Internals->DisplayHelper = vtkSmartPointer<vtkRayCastImageDisplayHelper>::Take(
+    vtkRayCastImageDisplayHelper::New());
+  if (this->Internals->DisplayHelper)
+  {
+    this->Internals->DisplayHelper->PreMultipliedColorsOn();
+  }
+}
+
+vtkAdaptiveVolumeMapper::~vtkAdaptiveVolumeMapper() = default;
+
+const char* vtkAdaptiveVolumeMapper::GetIntegrationMethodAsString()
+{
+  switch (this->IntegrationMethod)
+  {
+    case RIEMANN:
+      return "Riemann";
+    case ADAPTIVE_COUPLED:
+      return "AdaptiveCoupled";
+    case ADAPTIVE_DECOUPLED:
+      return "AdaptiveDecoupled";
+    default:
+      return "Reference";
+  }
+}
+
+vtkImageData* vtkAdaptiveVolumeMapper::GetRenderedImage()
+{
+  return this->Internals->Image;
+}
+
+vtkIdType vtkAdaptiveVolumeMapper::GetNumberOfBlocks()
+{
+  return static_cast<vtkIdType>(this->Internals->Map.GetNumberOfBlocks());
+}
+
+vtkIdType vtkAdaptiveVolumeMapper::GetNumberOfVisibleBlocks()
+{
+  return static_cast<vtkIdType>(this->Internals->VisibleBlocks);
+}
+
+void vtkAdaptiveVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  if (this->Internals->DisplayHelper)
+  {
+    this->Internals->DisplayHelper->ReleaseGraphicsResources(win);
+  }
+}
+
+void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  vtkInternals& internals = *this->Internals;
+  this->LastRenderReused = false;
+  // Every early return below leaves an empty image and draws nothing.
+  auto fail = [&]()
+  {
+    internals.Image->Initialize();
+    internals.HaveImage = false;
+    timer->StopTimer();
+    this->LastRenderTime = timer->GetElapsedTime();
+  };
+
+  // Parameters.
+  an::AdaptiveSettings<double> adaptive;
+  adaptive.Tolerance = this->Tolerance;
+  adaptive.InitialStep = this->InitialStep;
+  adaptive.MinimumStep = this->MinimumStep;
+  adaptive.MaximumStep = this->MaximumStep;
+  adaptive.Coupling = this->IntegrationMethod == ADAPTIVE_DECOUPLED ? an::Strategy::Decoupled
+                                                                      : an::Strategy::Coupled;
+  const std::string invalid = adaptive.Validate();
+  if (!invalid.empty())
+  {
+    vtkErrorMacro(<< "Invalid integration settings: " << invalid << " (tolerance "
+                  << this->Tolerance << ", steps " << this->InitialStep << " / "
+                  << this->MinimumStep << " / " << this->MaximumStep << ").");
+    return fail();
+  }
+  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  {
+    vtkErrorMacro(<< "The sample distance must be positive and finite, not "
+                  << this->SampleDistance << ".");
+    return fail();
+  }
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    vtkErrorMacro(<< "Only the composite blend mode is supported.");
+    return fail();
+  }
+
+  // Input.
+  if (!this->GetInput())
+  {
+    vtkErrorMacro(<< "No input.");
+    return fail();
+  }
+  this->GetInputAlgorithm()->Update();
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  if (!input)
+  {
+    vtkErrorMacro(<< "The input must be a vtkImageData, not a " << this->GetInput()->GetClassName()
+                  << ".");
+    return fail();
+  }
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
+    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  int dims[3];
+  input->GetDimensions(dims);
+  if (!scalars)
+  {
+    vtkErrorMacro(<< "The input has no scalars to render.");
+    return fail();
+  }
+  if (cellFlag)
+  {
+    vtkErrorMacro(<< "Cell scalars are not supported; use point scalars.");
+    return fail();
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    vtkErrorMacro(<< "Only single-component scalars are supported, not "
+                  << scalars->GetNumberOfComponents() << " components.");
+    return fail();
+  }
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
+    scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
+  {
+    vtkErrorMacro(<< "The input must have at least 2 points along each axis and one scalar per "
+                     "point; its dimensions are "
+                  << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
+    return fail();
+  }
+  const double* spacing = input->GetSpacing();
+  if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0 ||
+    !std::isfinite(spacing[0] * spacing[1] * spacing[2]))
+  {
+    vtkErrorMacro(<< "The input's spacing must be non-zero and finite, not (" << spacing[0] << ", "
+                  << spacing[1] << ", " << spacing[2] << ").");
+    return fail();
+  }
+
+  // Grid -> world: the volume's matrix, the image's index -> physical
+  // matrix (origin, spacing, direction), and the extent's start.
+  vtkNew<vtkMatrix4x4> gridToWorld;
+  {
+    vtkNew<vtkMatrix4x4> start;
+    const int* extent = input->GetExtent();
+    for (int a = 0; a < 3; ++a)
+    {
+      start->SetElement(a, 3, extent[2 * a]);
+    }
+    vtkMatrix4x4::Multiply4x4(input->GetIndexToPhysicalMatrix(), start, gridToWorld);
+    vtkMatrix4x4::Multiply4x4(vol->GetMatrix(), gridToWorld, gridToWorld);
+  }
+  double voxel = VTK_DOUBLE_MAX;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double* m = gridToWorld->GetData();
+    voxel = std::min(voxel, std::sqrt(m[a] * m[a] + m[4 + a] * m[4 + a] + m[8 + a] * m[8 + a]));
+  }
+  vtkNew<vtkMatrix4x4> worldToGrid;
+  vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
+  if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
+  {
+    vtkErrorMacro(<< "The volume's grid is degenerate in world space (zero spacing or a "
+                     "singular volume matrix).");
+    return fail();
+  }
+
+  // Data -> empty-space ranges, when the scalars changed.
+  const std::array<int, 3> dimensions{ { dims[0], dims[1], dims[2] } };
+  if (scalars != internals.Scalars || scalars->GetMTime() != internals.ScalarsTime ||
+    dimensions != internals.Dimensions)
+  {
+    internals.Map.SetDimensions(dims);
+    std::size_t nans = 0;
+    switch (scalars->GetDataType())
+    {
+      vtkTemplateMacro(nans = ComputeRanges(
+                         internals.Map, static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+      default:
+        vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
+        return fail();
+    }
+    internals.Scalars = scalars;
+    internals.ScalarsTime = scalars->GetMTime();
+    internals.Dimensions = dimensions;
+    internals.NaNCount = nans;
+    internals.RangesTime.Modified();
+  }
+  if (internals.NaNCount > 0)
+  {
+    vtkErrorMacro(<< "The input has " << internals.NaNCount
+                  << " NaN scalars; a volume with undefined values is not rendered.");
+    return fail();
+  }
+
+  // Property -> transfer function and block visibility.
+  vtkVolumeProperty* property = vol->GetProperty();
+  if (property->GetShade(0) && !internals.WarnedShading)
+  {
+    vtkWarningMacro(<< "Shading is not supported and is ignored (emission-absorption model).");
+    internals.WarnedShading = true;
+  }
+  if (property->GetMTime() != internals.PropertyTime || this->OpacityModel != internals.OpacityModel ||
+    voxel != internals.Voxel || internals.ClassifyTime < internals.RangesTime)
+  {
+    internals.TF = TransferFunction();
+    std::string error = ConvertColor(property, internals.TF);
+    if (error.empty())
+    {
+      error = ConvertOpacity(property, internals.TF);
+    }
+    if (this->OpacityModel == VTK_OPACITY)
+    {
+      internals.TF.SetOpacityModel(
+        an::OpacityModel::Alpha, property->GetScalarOpacityUnitDistance(0) / voxel);
+    }
+    if (error.empty())
+    {
+      error = internals.TF.Validate();
+    }
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
+      internals.PropertyTime = 0;
+      return fail();
+    }
+    internals.VisibleBlocks = internals.Map.Classify(internals.TF);
+    internals.PropertyTime = property->GetMTime();
+    internals.OpacityModel = this->OpacityModel;
+    internals.Voxel = voxel;
+    internals.ClassifyTime.Modified();
+  }
+
+  // Frame: camera, viewport and depth buffer.
+  int width, height, x0, y0;
+  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
+  if (width < 1 || height < 1)
+  {
+    return fail();
+  }
+  FrameGeometry& g = internals.Geometry;
+  g.Width = width;
+  g.Height = height;
+  std::copy(dims, dims + 3, g.Dimensions);
+  g.Voxel = voxel;
+  g.Depth.resize(static_cast<std::size_t>(width) * height);
+  if (!ren->GetRenderWindow()->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, g.Depth.data()))
+  {
+    std::fill(g.Depth.begin(), g.Depth.end(), 1.0f);
+  }
+  vtkMatrix4x4* projection =
+    ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+  std::array<double, 16> projectionValues, volumeValues;
+  std::copy(projection->GetData(), projection->GetData() + 16, projectionValues.begin());
+  std::copy(vol->GetMatrix()->GetData(), vol->GetMatrix()->GetData() + 16, volumeValues.begin());
+  const std::array<int, 4> viewport{ { x0, y0, width, height } };
+
+  if (internals.HaveImage && projectionValues == internals.Projection &&
+    volumeValues == internals.VolumeMatrix && viewport == internals.Viewport &&
+    g.Depth == internals.LastDepth && this->GetMTime() == internals.FrameMapperTime &&
+    internals.ClassifyTime.GetMTime() == internals.FrameClassifyTime &&
+    internals.RangesTime.GetMTime() == internals.FrameRangesTime)
+  {
+    this->LastRenderReused = true;
+  }
+  else
+  {
+    vtkNew<vtkMatrix4x4> ndcToWorld;
+    vtkMatrix4x4::Invert(projection, ndcToWorld);
+    std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, g.NDCToWorld);
+    std::copy(worldToGrid->GetData(), worldToGrid->GetData() + 16, g.WorldToGrid);
+
+    // Cast only the box's footprint on the screen (all of it when a corner
+    // is behind the eye).
+    g.Rect[0] = width;
+    g.Rect[1] = 0;
+    g.Rect[2] = height;
+    g.Rect[3] = 0;
+    bool footprint = true;
+    for (int c = 0; c < 8 && footprint; ++c)
+    {
+      const glm::dvec4 corner((c & 1) * (dims[0] - 1.0), ((c >> 1) & 1) * (dims[1] - 1.0),
+        ((c >> 2) & 1) * (dims[2] - 1.0), 1.0);
+      const glm::dvec4 world = Multiply(gridToWorld->GetData(), corner);
+      const glm::dvec4 clip = Multiply(projection->GetData(), world);
+      if (!(clip.w > 0.0))
+      {
+        footprint = false;
+        break;
+      }
+      const double px = (clip.x / clip.w + 1.0) * 0.5 * width;
+      const double py = (clip.y / clip.w + 1.0) * 0.5 * height;
+      g.Rect[0] = std::min(g.Rect[0], static_cast<int>(std::max(std::floor(px), -1.0)));
+      g.Rect[1] = std::max(g.Rect[1], static_cast<int>(std::min(std::ceil(px) + 1, width + 1.0)));
+      g.Rect[2] = std::min(g.Rect[2], static_cast<int>(std::max(std::floor(py), -1.0)));
+      g.Rect[3] = std::max(g.Rect[3], static_cast<int>(std::min(std::ceil(py) + 1, height + 1.0)));
+    }
+    if (!footprint)
+    {
+      g.Rect[0] = g.Rect[2] = 0;
+      g.Rect[1] = width;
+      g.Rect[3] = height;
+    }
+    g.Rect[0] = std::max(g.Rect[0], 0);
+    g.Rect[2] = std::max(g.Rect[2], 0);
+    g.Rect[1] = std::min(g.Rect[1], width);
+    g.Rect[3] = std::min(g.Rect[3], height);
+
+    // The image.
+    internals.Image->SetDimensions(width, height, 1);
+    vtkNew<vtkFloatArray> rgba;
+    rgba->SetName("RGBA");
+    rgba->SetNumberOfComponents(4);
+    rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+    rgba->Fill(0.0);
+    internals.Image->GetPointData()->SetScalars(rgba);
+    float* image = rgba->GetPointer(0);
+
+    Method method;
+    method.Kind = this->IntegrationMethod;
+    method.Adaptive = adaptive;
+    method.SampleDistance = this->SampleDistance;
+    method.TerminationBound = 0.2 * this->Tolerance;
+
+    vtkSMPThreadLocal<ThreadStatistics> statistics;
+    vtkSMPThreadLocal<Segments> segments;
+    const an::EmptySpaceMap<double>* map = this->EmptySpaceSkipping ? &internals.Map : nullptr;
+    bool aborted = false;
+    auto cast = [&](auto* data)
+    {
+      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+      RayCaster<Storage> caster(data, g, internals.TF, map, method, image, statistics, segments);
+      // Bands of tile rows: progress and abort checks between them.
+      const int tileRows = (g.Rect[3] - g.Rect[2] + TileSize - 1) / TileSize;
+      const int bands = std::max(1, std::min(tileRows, 16));
+      for (int band = 0; band < bands && !aborted; ++band)
+      {
+        const int r0 = tileRows * band / bands;
+        const int r1 = tileRows * (band + 1) / bands;
+        vtkSMPTools::For(caster.NumberOfTiles(0, r0), caster.NumberOfTiles(0, r1), 1, caster);
+        this->UpdateProgress(static_cast<double>(band + 1) / bands);
+        aborted = ren->GetRenderWindow()->CheckAbortStatus() != 0;
+      }
+    };
+    if (!map || internals.VisibleBlocks > 0)
+    {
+      switch (scalars->GetDataType())
+      {
+        vtkTemplateMacro(cast(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+      }
+    }
+    if (aborted)
+    {
+      return fail();
+    }
+
+    ThreadStatistics total;
+    for (const ThreadStatistics& s : statistics)
+    {
+      total.Rays += s.Rays;
+      total.Samples += s.Samples;
+      total.MaximumSamples = std::max(total.MaximumSamples, s.MaximumSamples);
+      total.Rejected += s.Rejected;
+    }
+    this->RaysCast = total.Rays;
+    this->MeanSamplesPerRay =
+      total.Rays > 0 ? static_cast<double>(total.Samples) / static_cast<double>(total.Rays) : 0.0;
+    this->MaximumSamplesPerRay = total.MaximumSamples;
+    this->RejectedSteps = total.Rejected;
+
+    // 16-bit premultiplied RGBA for the display helper.
+    internals.Display.resize(4 * static_cast<std::size_t>(width) * height);
+    for (std::size_t i = 0; i < internals.Display.size(); ++i)
+    {
+      const float v = std::min(std::max(image[i], 0.0f), 1.0f);
+      internals.Display[i] = static_cast<std::uint16_t>(std::lround(v * 65535.0f));
+    }
+
+    internals.Projection = projectionValues;
+    internals.VolumeMatrix = volumeValues;
+    internals.Viewport = viewport;
+    internals.LastDepth = g.Depth;
+    internals.FrameMapperTime = this->GetMTime();
+    internals.FrameClassifyTime = internals.ClassifyTime.GetMTime();
+    internals.FrameRangesTime = internals.RangesTime.GetMTime();
+    internals.HaveImage = true;
+  }
+
+  if (internals.DisplayHelper)
+  {
+    int size[2] = { width, height };
+    int origin[2] = { 0, 0 };
+    // In front of everything: occlusion by opaque geometry is already in
+    // the image (rays stop at the depth buffer).
+    internals.DisplayHelper->RenderTexture(
+      vol, ren, size, size, size, origin, 1e-6f, internals.Display.data());
+  }
+  else
+  {
+    vtkErrorMacro(<< "No ray cast image display helper: is VTK::RenderingVolumeOpenGL2 linked?");
+  }
+  timer->StopTimer();
+  this->LastRenderTime = timer->GetElapsedTime();
+}
+
+void vtkAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "IntegrationMethod: " << this->GetIntegrationMethodAsString() << "\n";
+  os << indent << "OpacityModel: " << (this->OpacityModel == VTK_OPACITY ? "VTK" : "Extinction")
+     << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "InitialStep: " << this->InitialStep << "\n";
+  os << indent << "MinimumStep: " << this->MinimumStep << "\n";
+  os << indent << "MaximumStep: " << this->MaximumStep << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
+  os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
+  os << indent << "RaysCast: " << this->RaysCast << "\n";
+  os << indent << "MeanSamplesPerRay: " << this->MeanSamplesPerRay << "\n";
+  os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
+  os << indent << "RejectedSteps: " << this->RejectedSteps << "\n";
+  os << indent << "LastRenderReused: " << this->LastRenderReused << "\n";
+}

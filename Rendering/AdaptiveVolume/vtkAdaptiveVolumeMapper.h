@@ -1,0 +1,199 @@
+/**
+ * @class   vtkAdaptiveVolumeMapper
+ * @brief   CPU ray casting mapper that integrates to a requested accuracy
+ *
+ * vtkAdaptiveVolumeMapper renders single-component vtkImageData with the
+ * emission-absorption model and chooses its steps along each ray to meet an
+ * error tolerance, instead of taking a fixed sample distance: the iterative
+ * adaptive Simpson rule of Campagnolo, Celes and de Figueiredo, "Accurate
+ * Volume Rendering based on Adaptive Numerical Integration" (SIBGRAPI 2015),
+ * with the inner (optical depth) and outer (colour) integrals stepped in
+ * consonance, coupled or decoupled. A Riemann sum (VTK's usual fixed step)
+ * and a reference evaluator (error below 1e-6) are available for comparison.
+ *
+ * Units. Steps and tolerances are in voxel units: one voxel unit is the
+ * world-space length of the shortest grid step (the smallest spacing, times
+ * the vtkVolume's scale). Rays are cast through pixel centres, scalars are
+ * interpolated trilinearly, and the result is RGB = integrated colour I,
+ * A = 1 - T over a black background, composited over the scene.
+ *
+ * Opacity model. With SetOpacityModelToVTK() (the default) the scalar
+ * opacity function is VTK's: an opacity accumulated over the property's
+ * ScalarOpacityUnitDistance (world units), i.e. an extinction
+ * tau = -ln(1 - alpha) / unit distance. With SetOpacityModelToExtinction()
+ * the function's value is the extinction tau per voxel unit (the paper's
+ * model, the .tf1d files' meaning).
+ *
+ * Work skipped: blocks of 8^3 cells that the transfer function maps to
+ * tau = 0 (their value ranges are rebuilt when the data changes, their
+ * visibility when the property does), the rest of a ray once what it can
+ * still add is below a fifth of the tolerance, rays that miss the volume's
+ * box, and the whole ray cast when nothing that affects the image changed
+ * (the last image is drawn again). Opaque geometry is honoured through the
+ * depth buffer: rays stop at it.
+ *
+ * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
+ * supported (an error or a warning says so): multi-component or cell
+ * scalars, blend modes other than composite, shading, cropping and clipping
+ * planes.
+ *
+ * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper
+ */
+#ifndef vtkAdaptiveVolumeMapper_h
+#define vtkAdaptiveVolumeMapper_h
+
+#include "avosRenderingAdaptiveVolumeModule.h" // For export macro
+#include "vtkVolumeMapper.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkImageData;
+class vtkRayCastImageDisplayHelper;
+
+class AVOSRENDERINGADAPTIVEVOLUME_EXPORT vtkAdaptiveVolumeMapper : public vtkVolumeMapper
+{
+public:
+  static vtkAdaptiveVolumeMapper* New();
+  vtkTypeMacro(vtkAdaptiveVolumeMapper, vtkVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum IntegrationMethods
+  {
+    RIEMANN = 0,        // right-hand Riemann sum, step SampleDistance, T *= exp(-tau h)
+    ADAPTIVE_COUPLED,   // adaptive Simpson, outer step restarted from the inner one
+    ADAPTIVE_DECOUPLED, // adaptive Simpson, outer step carried on
+    REFERENCE           // adaptive Simpson at eps 1e-9: error below 1e-6
+  };
+
+  ///@{
+  /**
+   * How the volume rendering integral is evaluated along each ray. Default
+   * ADAPTIVE_COUPLED.
+   */
+  vtkSetClampMacro(IntegrationMethod, int, RIEMANN, REFERENCE);
+  vtkGetMacro(IntegrationMethod, int);
+  void SetIntegrationMethodToRiemann() { this->SetIntegrationMethod(RIEMANN); }
+  void SetIntegrationMethodToAdaptiveCoupled() { this->SetIntegrationMethod(ADAPTIVE_COUPLED); }
+  void SetIntegrationMethodToAdaptiveDecoupled()
+  {
+    this->SetIntegrationMethod(ADAPTIVE_DECOUPLED);
+  }
+  void SetIntegrationMethodToReference() { this->SetIntegrationMethod(REFERENCE); }
+  const char* GetIntegrationMethodAsString();
+  ///@}
+
+  enum OpacityModels
+  {
+    VTK_OPACITY = 0,   // alpha per ScalarOpacityUnitDistance, as VTK's mappers
+    EXTINCTION_OPACITY // tau per voxel unit, as the paper
+  };
+
+  ///@{
+  /**
+   * What the volume property's scalar opacity function means. Default
+   * VTK_OPACITY.
+   */
+  vtkSetClampMacro(OpacityModel, int, VTK_OPACITY, EXTINCTION_OPACITY);
+  vtkGetMacro(OpacityModel, int);
+  void SetOpacityModelToVTK() { this->SetOpacityModel(VTK_OPACITY); }
+  void SetOpacityModelToExtinction() { this->SetOpacityModel(EXTINCTION_OPACITY); }
+  ///@}
+
+  ///@{
+  /**
+   * Adaptive methods: error tolerance eps per RGBA channel (default 0.01),
+   * initial, minimum and maximum step in voxel units (defaults 0.5, 0.1, 2,
+   * the paper's). Checked at render time: eps > 0, 0 < MinimumStep <=
+   * MaximumStep, InitialStep > 0.
+   */
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
+  vtkSetMacro(InitialStep, double);
+  vtkGetMacro(InitialStep, double);
+  vtkSetMacro(MinimumStep, double);
+  vtkGetMacro(MinimumStep, double);
+  vtkSetMacro(MaximumStep, double);
+  vtkGetMacro(MaximumStep, double);
+  ///@}
+
+  ///@{
+  /**
+   * Riemann method: the step in voxel units (default 0.5).
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Skip blocks the transfer function makes transparent (default on). Off
+   * is only useful to measure what skipping saves: the image is the same.
+   */
+  vtkSetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkGetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkBooleanMacro(EmptySpaceSkipping, vtkTypeBool);
+  ///@}
+
+  /**
+   * The image of the last render: viewport-sized, float RGBA point scalars
+   * named "RGBA" (RGB = I premultiplied by opacity, A = 1 - T, black
+   * background), row 0 at the bottom. Empty before the first render and
+   * after a render that failed.
+   */
+  vtkImageData* GetRenderedImage();
+
+  ///@{
+  /**
+   * Statistics of the last ray cast: wall time of the whole Render call in
+   * seconds, rays that entered the volume's box, samples (transfer-function
+   * evaluations) per such ray, steps rejected by the error control.
+   * LastRenderReused is true when nothing had changed and the previous image
+   * was drawn again (the other figures then describe that image's ray cast).
+   */
+  vtkGetMacro(LastRenderTime, double);
+  vtkGetMacro(RaysCast, vtkIdType);
+  vtkGetMacro(MeanSamplesPerRay, double);
+  vtkGetMacro(MaximumSamplesPerRay, vtkIdType);
+  vtkGetMacro(RejectedSteps, vtkIdType);
+  vtkGetMacro(LastRenderReused, bool);
+  ///@}
+
+  /**
+   * Number of 8^3-cell blocks and how many of them the current transfer
+   * function leaves visible (after a render).
+   */
+  vtkIdType GetNumberOfBlocks();
+  vtkIdType GetNumberOfVisibleBlocks();
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkAdaptiveVolumeMapper();
+  ~vtkAdaptiveVolumeMapper() override;
+
+  int IntegrationMethod = ADAPTIVE_COUPLED;
+  int OpacityModel = VTK_OPACITY;
+  double Tolerance = 0.01;
+  double InitialStep = 0.5;
+  double MinimumStep = 0.1;
+  double MaximumStep = 2.0;
+  double SampleDistance = 0.5;
+  vtkTypeBool EmptySpaceSkipping = 1;
+
+  double LastRenderTime = 0.0;
+  vtkIdType RaysCast = 0;
+  double MeanSamplesPerRay = 0.0;
+  vtkIdType MaximumSamplesPerRay = 0;
+  vtkIdType RejectedSteps = 0;
+  bool LastRenderReused = false;
+
+private:
+  vtkAdaptiveVolumeMapper(const vtkAdaptiveVolumeMapper&) = delete;
+  void operator=(const vtkAdaptiveVolumeMapper&) = delete;
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
