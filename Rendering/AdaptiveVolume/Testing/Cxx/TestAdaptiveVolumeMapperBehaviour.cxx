@@ -1,0 +1,373 @@
+// What vtkAdaptiveVolumeMapper promises besides exactness, checked on its
+// float image: rays stop at opaque geometry; nothing is recomputed when
+// nothing changed; empty-space skipping changes no pixel of a Riemann sum;
+// every common scalar type gives the same image; the grid's placement (origin,
+// spacing, direction, the volume's matrix) is honoured; bad input gives a
+// clear error and an empty image, never a crash.
+#include "vtkActor.h"
+#include "vtkAdaptiveVolumeMapper.h"
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPlaneSource.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRectilinearGrid.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include "avosTestHelpers.h"
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <limits>
+
+namespace
+{
+constexpr int N = 40;
+constexpr int Size = 48;
+
+// A blob: s = 200 - 1.5 r^2 (r anisotropic) around the grid's centre, integer valued, so
+// every scalar type holds it exactly. Index (i, j, k) of the stored array.
+double Blob(int i, int j, int k)
+{
+  const double c = 0.5 * (N - 1);
+  const double r2 = (i - c) * (i - c) + 0.5 * (j - c) * (j - c) + 2.0 * (k - c) * (k - c);
+  return std::max(0.0, std::floor(200.0 - 1.5 * r2));
+}
+
+vtkSmartPointer<vtkImageData> MakeVolume(int type)
+{
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(N, N, N);
+  image->SetSpacing(1.0, 1.0, 1.0);
+  auto scalars = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(type));
+  scalars->SetNumberOfTuples(N * N * N);
+  vtkIdType n = 0;
+  for (int k = 0; k < N; ++k)
+  {
+    for (int j = 0; j < N; ++j)
+    {
+      for (int i = 0; i < N; ++i)
+      {
+        scalars->SetTuple1(n++, Blob(i, j, k));
+      }
+    }
+  }
+  image->GetPointData()->SetScalars(scalars);
+  return image;
+}
+
+struct Scene
+{
+  vtkNew<vtkColorTransferFunction> Color;
+  vtkNew<vtkPiecewiseFunction> Opacity;
+  vtkNew<vtkVolumeProperty> Property;
+  vtkNew<vtkAdaptiveVolumeMapper> Mapper;
+  vtkNew<vtkVolume> Volume;
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+
+  Scene()
+  {
+    this->Color->AddRGBPoint(0, 0.1, 0.2, 0.9);
+    this->Color->AddRGBPoint(120, 0.9, 0.5, 0.1);
+    this->Color->AddRGBPoint(200, 1.0, 1.0, 0.8);
+    this->Opacity->AddPoint(0, 0.0);
+    this->Opacity->AddPoint(40, 0.0);
+    this->Opacity->AddPoint(200, 0.3);
+    this->Property->SetColor(this->Color);
+    this->Property->SetScalarOpacity(this->Opacity);
+    this->Property->SetInterpolationTypeToLinear();
+    this->Volume->SetMapper(this->Mapper);
+    this->Volume->SetProperty(this->Property);
+    this->Renderer->AddVolume(this->Volume);
+    this->Window->SetOffScreenRendering(1);
+    this->Window->SetSize(Size, Size);
+    this->Window->AddRenderer(this->Renderer);
+  }
+
+  void ResetView()
+  {
+    this->Renderer->ResetCamera();
+    this->Renderer->GetActiveCamera()->Azimuth(25.0);
+    this->Renderer->GetActiveCamera()->Elevation(15.0);
+    this->Renderer->ResetCameraClippingRange();
+  }
+
+  // A copy of the float image of a new render.
+  vtkSmartPointer<vtkFloatArray> Render()
+  {
+    this->Window->Render();
+    auto copy = vtkSmartPointer<vtkFloatArray>::New();
+    auto* rgba = this->Mapper->GetRenderedImage()->GetPointData()->GetScalars();
+    if (rgba)
+    {
+      copy->DeepCopy(rgba);
+    }
+    return copy;
+  }
+};
+
+double MaxDifference(vtkFloatArray* a, vtkFloatArray* b)
+{
+  if (a->GetNumberOfValues() != b->GetNumberOfValues() || a->GetNumberOfValues() == 0)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  double m = 0.0;
+  for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+  {
+    m = std::max(m, std::abs(double(a->GetValue(i)) - double(b->GetValue(i))));
+  }
+  return m;
+}
+
+double MaxAlpha(vtkFloatArray* a)
+{
+  double m = 0.0;
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
+  {
+    m = std::max(m, double(a->GetComponent(i, 3)));
+  }
+  return m;
+}
+
+int Failures = 0;
+void Expect(bool ok, const std::string& what)
+{
+  if (!ok)
+  {
+    std::cerr << "FAIL " << what << "\n";
+    ++Failures;
+  }
+}
+} // namespace
+
+int TestAdaptiveVolumeMapperBehaviour(int, char*[])
+{
+  Scene scene;
+  vtkSmartPointer<vtkImageData> volume = MakeVolume(VTK_UNSIGNED_CHAR);
+  scene.Mapper->SetInputData(volume);
+  scene.ResetView();
+  vtkSmartPointer<vtkFloatArray> reference = scene.Render();
+  Expect(MaxAlpha(reference) > 0.5, "the blob is visible");
+  Expect(!scene.Mapper->GetLastRenderReused(), "first render casts rays");
+  Expect(scene.Mapper->GetRaysCast() > 0 && scene.Mapper->GetMeanSamplesPerRay() > 0,
+    "statistics are filled");
+
+  // Nothing changed: the image is drawn again without a ray cast.
+  scene.Render();
+  Expect(scene.Mapper->GetLastRenderReused(), "an unchanged frame is reused");
+  scene.Opacity->AddPoint(100, 0.1);
+  vtkSmartPointer<vtkFloatArray> changed = scene.Render();
+  Expect(!scene.Mapper->GetLastRenderReused(), "a transfer-function change casts again");
+  Expect(MaxDifference(changed, reference) > 1e-3, "the new transfer function shows");
+  scene.Opacity->RemovePoint(100);
+  scene.Renderer->GetActiveCamera()->Azimuth(1.0);
+  scene.Render();
+  Expect(!scene.Mapper->GetLastRenderReused(), "a camera change casts again");
+  scene.Renderer->GetActiveCamera()->Azimuth(-1.0);
+  Expect(MaxDifference(scene.Render(), reference) < 1e-7, "back to the first frame");
+
+  // Empty-space skipping: a Riemann sum is the same, pixel for pixel.
+  scene.Mapper->SetIntegrationMethodToRiemann();
+  vtkSmartPointer<vtkFloatArray> skipped = scene.Render();
+  Expect(scene.Mapper->GetNumberOfVisibleBlocks() < scene.Mapper->GetNumberOfBlocks(),
+    "some blocks are empty");
+  scene.Mapper->EmptySpaceSkippingOff();
+  Expect(MaxDifference(scene.Render(), skipped) == 0.0, "skipping changes no Riemann pixel");
+  scene.Mapper->EmptySpaceSkippingOn();
+  scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
+
+  // Every common scalar type holds the same integers: the same image.
+  for (int type : { VTK_SHORT, VTK_UNSIGNED_SHORT, VTK_INT, VTK_FLOAT, VTK_DOUBLE })
+  {
+    scene.Mapper->SetInputData(MakeVolume(type));
+    Expect(MaxDifference(scene.Render(), reference) == 0.0,
+      std::string("same image from ") + vtkImageScalarTypeNameMacro(type));
+  }
+
+  // Placement: origin and spacing in the image, or the same through the
+  // volume's matrix, or a direction matrix with the axes' data permuted.
+  // With a Riemann sum the samples sit at the same world points whatever the
+  // grid's orientation (adaptive steps may differ within eps, as the empty
+  // blocks do).
+  {
+    scene.Mapper->SetIntegrationMethodToRiemann();
+    vtkSmartPointer<vtkImageData> placed = MakeVolume(VTK_FLOAT);
+    placed->SetOrigin(3.0, -2.0, 1.0);
+    placed->SetSpacing(0.5, 0.5, 0.5);
+    scene.Mapper->SetInputData(placed);
+    scene.ResetView();
+    vtkSmartPointer<vtkFloatArray> byImage = scene.Render();
+    Expect(MaxAlpha(byImage) > 0.5, "placed volume visible");
+
+    scene.Mapper->SetInputData(MakeVolume(VTK_FLOAT));
+    scene.Volume->SetScale(0.5);
+    scene.Volume->SetPosition(3.0, -2.0, 1.0);
+    Expect(MaxDifference(scene.Render(), byImage) < 1e-6, "volume matrix = image placement");
+    scene.Volume->SetScale(1.0);
+    scene.Volume->SetPosition(0.0, 0.0, 0.0);
+
+    // Direction: index axis i along world -y, j along world x. The array is
+    // stored so that the world field is the same as `placed`'s.
+    vtkSmartPointer<vtkImageData> rotated = MakeVolume(VTK_FLOAT);
+    vtkDataArray* s = rotated->GetPointData()->GetScalars();
+    vtkIdType n = 0;
+    for (int k = 0; k < N; ++k)
+    {
+      for (int j = 0; j < N; ++j)
+      {
+        for (int i = 0; i < N; ++i)
+        {
+          // World x = j, world y = (N - 1) - i in placed's index terms.
+          s->SetTuple1(n++, Blob(j, N - 1 - i, k));
+        }
+      }
+    }
+    const double direction[9] = { 0, 1, 0, -1, 0, 0, 0, 0, 1 };
+    rotated->SetDirectionMatrix(direction);
+    rotated->SetSpacing(0.5, 0.5, 0.5);
+    rotated->SetOrigin(3.0, -2.0 + 0.5 * (N - 1), 1.0);
+    scene.Mapper->SetInputData(rotated);
+    Expect(MaxDifference(scene.Render(), byImage) < 1e-6, "direction matrix honoured");
+    scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
+  }
+
+  // Opaque geometry in front of the lower half of the view: rays stop there.
+  {
+    scene.Mapper->SetInputData(volume);
+    scene.ResetView();
+    double fp[3], pos[3];
+    scene.Renderer->GetActiveCamera()->GetFocalPoint(fp);
+    scene.Renderer->GetActiveCamera()->GetPosition(pos);
+    // A plane facing the camera between it and the volume, lower half only.
+    vtkNew<vtkPlaneSource> square;
+    const glm::dvec3 f(fp[0], fp[1], fp[2]), p(pos[0], pos[1], pos[2]);
+    const glm::dvec3 c = f + 0.6 * (p - f);
+    double up[3];
+    scene.Renderer->GetActiveCamera()->GetViewUp(up);
+    const glm::dvec3 u(up[0], up[1], up[2]);
+    const glm::dvec3 r = glm::normalize(glm::cross(f - p, u));
+    const glm::dvec3 o = c - 100.0 * r - 100.0 * u;
+    const glm::dvec3 p1 = c + 100.0 * r - 100.0 * u;
+    const glm::dvec3 p2 = c - 100.0 * r;
+    square->SetOrigin(o.x, o.y, o.z);
+    square->SetPoint1(p1.x, p1.y, p1.z);
+    square->SetPoint2(p2.x, p2.y, p2.z);
+    vtkNew<vtkPolyDataMapper> polyMapper;
+    polyMapper->SetInputConnection(square->GetOutputPort());
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(polyMapper);
+    scene.Renderer->AddActor(actor);
+    scene.Renderer->ResetCameraClippingRange();
+    vtkSmartPointer<vtkFloatArray> occluded = scene.Render();
+    double below = 0.0, above = 0.0;
+    for (int y = 0; y < Size; ++y)
+    {
+      for (int x = 0; x < Size; ++x)
+      {
+        const double a = occluded->GetComponent(y * Size + x, 3);
+        double& half = y < Size / 2 - 1 ? below : above;
+        half = std::max(half, a);
+      }
+    }
+    Expect(below == 0.0, "no volume behind opaque geometry");
+    Expect(above > 0.5, "volume above the geometry");
+    scene.Renderer->RemoveActor(actor);
+  }
+
+  // Bad input: a clear error, an empty image.
+  avostest::ExpectedErrors errors(scene.Mapper);
+  auto expectError = [&](const std::string& what, const std::string& message)
+  {
+    scene.Window->Render();
+    Expect(errors.Check(what, message), what);
+    Expect(scene.Mapper->GetRenderedImage()->GetNumberOfPoints() == 0, what + ": empty image");
+  };
+  scene.Mapper->SetInputData(volume);
+  scene.Mapper->SetTolerance(0.0);
+  expectError("tolerance 0", "tolerance must be positive");
+  scene.Mapper->SetTolerance(-1.0);
+  expectError("negative tolerance", "tolerance must be positive");
+  scene.Mapper->SetTolerance(0.01);
+  scene.Mapper->SetMinimumStep(3.0);
+  expectError("hmin > hmax", "minimum step <= maximum step");
+  scene.Mapper->SetMinimumStep(0.1);
+  scene.Mapper->SetIntegrationMethodToRiemann();
+  scene.Mapper->SetSampleDistance(0.0);
+  expectError("zero sample distance", "sample distance must be positive");
+  scene.Mapper->SetSampleDistance(0.5);
+  scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
+
+  vtkNew<vtkImageData> noScalars;
+  noScalars->SetDimensions(N, N, N);
+  scene.Mapper->SetInputData(noScalars);
+  expectError("no scalars", "no scalars");
+
+  vtkNew<vtkImageData> twoComponents;
+  twoComponents->SetDimensions(N, N, N);
+  vtkNew<vtkFloatArray> pairs;
+  pairs->SetNumberOfComponents(2);
+  pairs->SetNumberOfTuples(N * N * N);
+  pairs->Fill(1.0);
+  twoComponents->GetPointData()->SetScalars(pairs);
+  scene.Mapper->SetInputData(twoComponents);
+  expectError("two components", "single-component");
+
+  vtkNew<vtkImageData> empty;
+  vtkNew<vtkFloatArray> none;
+  empty->GetPointData()->SetScalars(none);
+  scene.Mapper->SetInputData(empty);
+  expectError("empty extent", "at least 2 points");
+
+  vtkSmartPointer<vtkImageData> flat = MakeVolume(VTK_FLOAT);
+  flat->SetSpacing(1.0, 0.0, 1.0);
+  scene.Mapper->SetInputData(flat);
+  expectError("zero spacing", "spacing must be non-zero");
+
+  vtkSmartPointer<vtkImageData> withNaN = MakeVolume(VTK_FLOAT);
+  withNaN->GetPointData()->GetScalars()->SetTuple1(77, std::nan(""));
+  scene.Mapper->SetInputData(withNaN);
+  expectError("NaN data", "NaN");
+
+  vtkNew<vtkRectilinearGrid> rectilinear;
+  scene.Mapper->SetInputData(rectilinear);
+  expectError("not image data", "must be a vtkImageData");
+
+  scene.Mapper->SetInputData(volume);
+  scene.Window->Render();
+  Expect(errors.None("good input again") && MaxAlpha(scene.Render()) > 0.5, "recovers");
+
+  vtkNew<vtkPiecewiseFunction> noOpacity;
+  scene.Property->SetScalarOpacity(noOpacity);
+  expectError("empty opacity function", "scalar opacity function is empty");
+  scene.Property->SetScalarOpacity(scene.Opacity);
+  vtkNew<vtkColorTransferFunction> noColor;
+  scene.Property->SetColor(noColor);
+  expectError("empty colour function", "colour transfer function is empty");
+  scene.Property->SetColor(scene.Color);
+  scene.Opacity->AddPoint(60, std::nan(""));
+  expectError("NaN opacity", "Unusable transfer function");
+  scene.Opacity->RemovePoint(60);
+
+  scene.Mapper->SetBlendModeToMaximumIntensity();
+  expectError("MIP", "composite blend mode");
+  scene.Mapper->SetBlendModeToComposite();
+  scene.Window->Render();
+  Expect(errors.None("good again"), "recovers at the end");
+  return Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
