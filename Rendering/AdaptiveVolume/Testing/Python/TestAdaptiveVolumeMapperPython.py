@@ -1,0 +1,79 @@
+"""vtkAdaptiveVolumeMapper in a wrapped pipeline: source -> mapper -> window.
+The float image and the statistics reach Python; the adaptive image agrees
+with the reference within the tolerance on every pixel; a bad tolerance is
+reported and renders nothing."""
+
+import avos
+from vtkmodules.test import Testing
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
+                                         vtkVolume, vtkVolumeProperty)
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
+import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
+
+
+class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
+    def setUp(self):
+        source = avos.vtkAnalyticVolumeSource()
+        source.SetFunctionToMarschnerLobb()
+        source.SetDimensions(33, 33, 33)
+        color = vtkColorTransferFunction()
+        color.AddRGBPoint(0.0, 0.1, 0.3, 1.0)
+        color.AddRGBPoint(1.0, 1.0, 0.8, 0.2)
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(0.0, 0.0)
+        opacity.AddPoint(0.5, 0.0)
+        opacity.AddPoint(1.0, 0.4)
+        prop = vtkVolumeProperty()
+        prop.SetColor(color)
+        prop.SetScalarOpacity(opacity)
+        prop.SetInterpolationTypeToLinear()
+        self.mapper = avos.vtkAdaptiveVolumeMapper()
+        self.mapper.SetInputConnection(source.GetOutputPort())
+        self.mapper.SetOpacityModelToExtinction()
+        volume = vtkVolume()
+        volume.SetMapper(self.mapper)
+        volume.SetProperty(prop)
+        renderer = vtkRenderer()
+        renderer.AddVolume(volume)
+        self.window = vtkRenderWindow()
+        self.window.SetOffScreenRendering(1)
+        self.window.SetSize(40, 30)
+        self.window.AddRenderer(renderer)
+        renderer.ResetCamera()
+        renderer.GetActiveCamera().Elevation(30.0)
+
+    def render(self):
+        self.window.Render()
+        rgba = self.mapper.GetRenderedImage().GetPointData().GetScalars()
+        return [rgba.GetValue(i) for i in range(rgba.GetNumberOfValues())] if rgba else []
+
+    def test_adaptive_within_tolerance_of_reference(self):
+        self.mapper.SetIntegrationMethodToReference()
+        reference = self.render()
+        self.assertEqual(len(reference), 40 * 30 * 4)
+        self.assertGreater(max(reference), 0.2)
+        self.mapper.SetIntegrationMethodToAdaptiveCoupled()
+        self.mapper.SetTolerance(0.005)
+        self.assertEqual(self.mapper.GetIntegrationMethodAsString(), "AdaptiveCoupled")
+        adaptive = self.render()
+        error = max(abs(a - r) for a, r in zip(adaptive, reference))
+        self.assertLessEqual(error, 0.005)
+        self.assertGreater(self.mapper.GetRaysCast(), 0)
+        self.assertGreater(self.mapper.GetMeanSamplesPerRay(), 1.0)
+        self.assertGreaterEqual(self.mapper.GetMaximumSamplesPerRay(),
+                                self.mapper.GetMeanSamplesPerRay())
+        self.assertGreater(self.mapper.GetLastRenderTime(), 0.0)
+
+    def test_bad_tolerance_is_reported(self):
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.mapper.SetTolerance(-1.0)
+        self.assertEqual(self.render(), [])
+        self.assertEqual(len(errors), 1)
+
+
+if __name__ == "__main__":
+    Testing.main([(TestAdaptiveVolumeMapperPython, "test")])
