@@ -704,6 +704,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     Method method;
     method.Kind = this->IntegrationMethod;
     method.Adaptive = adaptive;
+    // Trilinear values never leave the data's range.
+    method.Adaptive.FieldMinimum = scalars->GetRange(0)[0];
+    method.Adaptive.FieldMaximum = scalars->GetRange(0)[1];
     method.SampleDistance = this->SampleDistance;
     method.TerminationBound = 0.2 * this->Tolerance;
 

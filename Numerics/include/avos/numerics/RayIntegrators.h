@@ -87,6 +87,11 @@ struct AdaptiveSettings
   Real MaximumStep = Real(2.0); // h_max
   Strategy Coupling = Strategy::Coupled;
   bool EarlyTermination = true;
+  // The field's range, when known (a volume's data range): transfer-function
+  // knots outside it are never crossed, which spares the error estimate's
+  // safety factors there (see Bracket::EstimateScale).
+  Real FieldMinimum = -std::numeric_limits<Real>::infinity();
+  Real FieldMaximum = std::numeric_limits<Real>::infinity();
 
   // Empty when valid, else the reason.
   std::string Validate() const
@@ -209,12 +214,14 @@ struct Bracket
   Real U = Real(0);
   Real K = Real(0);
   Sample<Real> S[5];
+  Real Scale = Real(0); // EstimateScale's cached value, 0 when unknown
 
   template <typename SamplerT>
   void Fill(const SamplerT& sample, Real u, Real k)
   {
     this->U = u;
     this->K = k;
+    this->Scale = Real(0);
     for (int i = 1; i < 5; ++i)
     {
       this->S[i] = sample(i == 4 ? u + k : u + Real(0.25) * Real(i) * k);
@@ -225,6 +232,7 @@ struct Bracket
   void Halve(const SamplerT& sample)
   {
     this->K *= Real(0.5);
+    this->Scale = Real(0);
     this->S[4] = this->S[2];
     this->S[2] = this->S[1];
     this->S[1] = sample(this->U + Real(0.25) * this->K);
@@ -235,9 +243,17 @@ struct Bracket
   // O(h^5), so E(D) = E(S) / 16). Where the transfer function jumps inside
   // the step's scalar range the error of D is of the order of |D - S| itself
   // (factor 15); where it has a kink the integrand is only C0, the error is
-  // O(h^2) and E(D) = |D - S| / 3 (factor 5).
-  Real EstimateScale(const TransferFunction<Real>& tf) const
+  // O(h^2) and E(D) = |D - S| / 3 (factor 5). The range is that of the
+  // samples, widened by the largest change between neighbours (a non-monotone
+  // field can reach past its samples between them) and clipped to the field's
+  // known range; a knot at an end of the clipped range is never crossed.
+  // Computed once per set of samples.
+  Real EstimateScale(const TransferFunction<Real>& tf, Real fieldMinimum, Real fieldMaximum)
   {
+    if (this->Scale > Real(0))
+    {
+      return this->Scale;
+    }
     Real lo = this->S[0].Scalar, hi = lo, spread = Real(0);
     for (int i = 1; i < 5; ++i)
     {
@@ -245,15 +261,14 @@ struct Bracket
       hi = std::max(hi, this->S[i].Scalar);
       spread = std::max(spread, std::abs(this->S[i].Scalar - this->S[i - 1].Scalar));
     }
-    // A non-monotone field can reach past its samples between them: widen
-    // the range by the largest change between neighbouring samples.
-    lo -= spread;
-    hi += spread;
-    if (!(lo == lo && hi == hi))
+    lo = std::max(lo - spread, fieldMinimum);
+    hi = std::min(hi + spread, fieldMaximum);
+    this->Scale = Real(1);
+    if (lo == lo && hi == hi && lo < hi)
     {
-      return Real(1);
+      this->Scale = tf.HasJumpIn(lo, hi) ? Real(15) : (tf.HasKnotIn(lo, hi) ? Real(5) : Real(1));
     }
-    return tf.HasJumpIn(lo, hi) ? Real(15) : (tf.HasKnotIn(lo, hi) ? Real(5) : Real(1));
+    return this->Scale;
   }
 
   // The stable rule for a step taken at h_min although its estimate fails:
@@ -590,6 +605,8 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
   const Real innerTolerance = Real(0.4) * eps / L; // per unit length
   const Real outerTolerance = Real(0.4) * eps / L;
   const Real terminationBudget = Real(0.2) * eps / std::max(Real(1), tf.GetMaximumColor());
+  const Real fieldMinimum = settings.FieldMinimum;
+  const Real fieldMaximum = settings.FieldMaximum;
 
   const Real h0 = std::min(std::max(std::min(settings.InitialStep, L), hmin), hmax);
   detail::StepControl<Real> inner{ h0, hmin, hmax };
@@ -615,10 +632,11 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
       in.Fill(sample, t, std::min(inner.H, remaining));
       typename detail::Bracket<Real>::template Pair<Real> innerPair;
       const bool innerForced = detail::Refine(in, sample, inner, innerTolerance, stats,
-        [&](const detail::Bracket<Real>& b)
+        [&](detail::Bracket<Real>& b)
         {
           innerPair = b.Inner();
-          return T * b.EstimateScale(tf) * detail::ErrorEstimate(innerPair.S, innerPair.D);
+          return T * b.EstimateScale(tf, fieldMinimum, fieldMaximum) *
+            detail::ErrorEstimate(innerPair.S, innerPair.D);
         });
       const Real h = in.K;
       const Real tEnd = in.K == remaining ? D : t + h;
@@ -663,10 +681,11 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
           }
           typename detail::Bracket<Real>::template Pair<glm::vec<3, Real>> outerPair;
           const bool outerForced = detail::Refine(out, sample, outer, outerTolerance, stats,
-            [&](const detail::Bracket<Real>& b)
+            [&](detail::Bracket<Real>& b)
             {
               outerPair = b.Outer(thetaU);
-              return b.EstimateScale(tf) * detail::ErrorEstimate(outerPair.S, outerPair.D);
+              return b.EstimateScale(tf, fieldMinimum, fieldMaximum) *
+                detail::ErrorEstimate(outerPair.S, outerPair.D);
             });
           if (outerForced)
           {

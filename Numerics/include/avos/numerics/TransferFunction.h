@@ -167,14 +167,14 @@ public:
     return m;
   }
 
-  // True when C or tau jumps at a scalar value in [lo, hi]: there Simpson's
+  // True when C or tau jumps at a scalar value in (lo, hi): there Simpson's
   // error estimate is unreliable (it assumes a smooth integrand).
   bool HasJumpIn(Real lo, Real hi) const
   {
     return HasEqualPairIn(this->ColorValues, lo, hi) || HasEqualPairIn(this->OpacityValues, lo, hi);
   }
 
-  // True when C or tau has a kink (or a jump) at a scalar value in [lo, hi].
+  // True when C or tau has a kink (or a jump) at a scalar value in (lo, hi).
   bool HasKnotIn(Real lo, Real hi) const
   {
     return HasValueIn(this->ColorValues, lo, hi) || HasValueIn(this->OpacityValues, lo, hi);
@@ -193,14 +193,14 @@ public:
 private:
   static bool HasValueIn(const std::vector<Real>& values, Real lo, Real hi)
   {
-    auto i = std::lower_bound(values.begin(), values.end(), lo);
-    return i != values.end() && *i <= hi;
+    auto i = std::upper_bound(values.begin(), values.end(), lo);
+    return i != values.end() && *i < hi;
   }
 
   static bool HasEqualPairIn(const std::vector<Real>& values, Real lo, Real hi)
   {
-    auto i = std::lower_bound(values.begin(), values.end(), lo);
-    for (; i != values.end() && *i <= hi; ++i)
+    auto i = std::upper_bound(values.begin(), values.end(), lo);
+    for (; i != values.end() && *i < hi; ++i)
     {
       if (i + 1 != values.end() && *(i + 1) == *i)
       {

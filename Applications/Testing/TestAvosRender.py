@@ -1,0 +1,82 @@
+"""avos-render end to end: every method renders a small shared volume and
+writes the image and the report it was asked for; an EXR keeps float RGBA;
+bad command lines and unreadable inputs fail with a message, not a crash.
+
+    python3 TestAvosRender.py AVOS_RENDER SHARED_DATA_DIR SCRATCH_DIR
+"""
+
+import json
+import os
+import subprocess
+import sys
+
+EXE, DATA, SCRATCH = sys.argv[1:4]
+VOLUME = os.path.join(DATA, "volumes", "Neghip.1.64x64x64.raw")
+TF = os.path.join(DATA, "tf", "BluntFin.1.256x128x64.linear.tf1d")
+failures = []
+
+
+def run(*args):
+    result = subprocess.run([EXE, *args], capture_output=True, text=True, timeout=600)
+    return result.returncode, result.stdout + result.stderr
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL", what)
+
+
+if not os.path.exists(VOLUME):
+    print("shared data absent: skipping")
+    sys.exit(125)
+
+os.makedirs(SCRATCH, exist_ok=True)
+for method in ["riemann", "coupled", "decoupled", "reference", "vtk-fixed-point", "vtk-gpu"]:
+    png = os.path.join(SCRATCH, method + ".png")
+    report = os.path.join(SCRATCH, method + ".json")
+    for path in (png, report):
+        if os.path.exists(path):
+            os.remove(path)
+    code, out = run(VOLUME, "--tf", TF, "--method", method, "--size", "64x48", "--frames", "2",
+                    "--azimuth", "30", "--elevation", "10", "--zoom", "1.2",
+                    "--output", png, "--report", report)
+    check(code == 0, method + " exits 0: " + out)
+    check(os.path.getsize(png) > 100 if os.path.exists(png) else False, method + " writes a PNG")
+    if os.path.exists(report):
+        r = json.load(open(report))
+        check(r["method"] == method and r["width"] == 64 and r["height"] == 48 and
+              r["frames"] == 2 and 0 < r["min_seconds"] <= r["median_seconds"],
+              method + " report fields")
+        if not method.startswith("vtk-"):
+            check(r["rays_cast"] > 0 and r["mean_samples_per_ray"] > 1, method + " statistics")
+    else:
+        check(False, method + " writes a report")
+
+# EXR: float RGBA, read back through OpenImageIO's command-line tool.
+exr = os.path.join(SCRATCH, "coupled.exr")
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--output", exr)
+check(code == 0 and os.path.exists(exr), "EXR written: " + out)
+info = subprocess.run(["oiiotool", "--info", "-v", exr], capture_output=True, text=True).stdout
+check("4 channel" in info and "float" in info, "EXR is float RGBA: " + info)
+
+# Default transfer function (no --tf) and the VTK opacity model.
+code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
+check(code == 0 and "rays" in out, "default transfer function: " + out)
+
+# Bad input: a message and a non-zero exit, never a crash.
+for args, message in [((), "no input"),
+                      ((VOLUME, "--method", "simpson"), "unknown method"),
+                      ((VOLUME, "--size", "0x10"), "--size"),
+                      ((VOLUME, "--tolerance", "abc"), "finite number"),
+                      ((os.path.join(SCRATCH, "missing.vti"),), "no such file"),
+                      ((VOLUME, "--tf", os.path.join(SCRATCH, "missing.tf1d")),
+                       "transfer function"),
+                      ((VOLUME, "--tolerance", "-1"), "tolerance"),
+                      ((VOLUME, "--hmin", "5", "--hmax", "1"), "minimum step"),
+                      ((VOLUME, "--output", os.path.join(SCRATCH, "x.bmp")), ".png or .exr")]:
+    code, out = run(*args)
+    check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
+
+print("%d failure(s)" % len(failures))
+sys.exit(1 if failures else 0)
