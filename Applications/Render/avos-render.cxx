@@ -5,7 +5,7 @@
 //               vtk-fixed-point|vtk-gpu] [--opacity extinction|vtk] [--tolerance E]
 //               [--step H] [--h0 H] [--hmin H] [--hmax H] [--size WxH] [--azimuth DEG]
 //               [--elevation DEG] [--zoom Z] [--frames N] [--threads N]
-//               [--output FILE.png|FILE.exr] [--report FILE.json]
+//               [--output FILE.png|FILE.exr] [--report FILE.json] [--compare REF.exr]
 //
 // INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, a volvis .raw name (Name.1.XxYxZ.raw)
 // or a DICOM folder. Runs in an off-screen window (under Xvfb on a headless
@@ -16,6 +16,7 @@
 #include "vtkCommand.h"
 #include "vtkDICOMImageReader.h"
 #include "vtkDataArray.h"
+#include "vtkFixedPointRayCastImage.h"
 #include "vtkFixedPointVolumeRayCastMapper.h"
 #include "vtkFloatArray.h"
 #include "vtkGPUVolumeRayCastMapper.h"
@@ -61,11 +62,15 @@ const char* Usage =
   "         [--opacity extinction|vtk] [--tolerance E] [--step H] [--h0 H] [--hmin H]\n"
   "         [--hmax H] [--size WxH] [--azimuth DEG] [--elevation DEG] [--zoom Z]\n"
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
+  "         [--compare REF.exr]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
   "--opacity vtk renders the TF converted to VTK's semantics (alpha = 1 - exp(-tau) per\n"
-  "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n";
+  "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
+  "--compare: per RGBA channel, the percentage of pixels whose error against REF.exr (a\n"
+  "float image of the same size, e.g. --method reference) exceeds 0.01, 0.005, 0.001, over\n"
+  "the pixels where either image is not transparent; in the report too.\n";
 
 struct Options
 {
@@ -87,6 +92,7 @@ struct Options
   int Threads = 0;
   std::string Output;
   std::string Report;
+  std::string Compare;
 };
 
 bool ParseNumber(const std::string& text, double& value)
@@ -170,6 +176,10 @@ std::string Parse(int argc, char* argv[], Options& o)
     else if (arg == "--report")
     {
       o.Report = value;
+    }
+    else if (arg == "--compare")
+    {
+      o.Compare = value;
     }
     else
     {
@@ -310,6 +320,74 @@ bool WriteImage(const std::string& path, int width, int height, const std::vecto
     std::cerr << "error: writing '" << path << "' failed\n";
   }
   return ok;
+}
+
+// A float RGBA image of the given size, row 0 at the bottom. Empty on error.
+std::vector<float> ReadImage(const std::string& path, int width, int height)
+{
+  auto in = OIIO::ImageInput::open(path);
+  if (!in)
+  {
+    std::cerr << "error: cannot read '" << path << "': " << OIIO::geterror() << "\n";
+    return {};
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width != width || spec.height != height || spec.nchannels != 4)
+  {
+    std::cerr << "error: '" << path << "' is " << spec.width << "x" << spec.height << " with "
+              << spec.nchannels << " channels, not " << width << "x" << height << " RGBA\n";
+    return {};
+  }
+  std::vector<float> rgba(4 * static_cast<std::size_t>(width) * height);
+  const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * 4 * sizeof(float);
+  char* last = reinterpret_cast<char*>(rgba.data()) + row * (height - 1);
+  if (!in->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, last, OIIO::AutoStride, -row))
+  {
+    std::cerr << "error: cannot read '" << path << "': " << in->geterror() << "\n";
+    return {};
+  }
+  return rgba;
+}
+
+// Percentages of covered pixels whose error exceeds each threshold, per
+// channel: [threshold][channel].
+struct Comparison
+{
+  static constexpr double Thresholds[3] = { 0.01, 0.005, 0.001 };
+  double Exceeding[3][4] = {};
+  double MaximumError[4] = {};
+  long Pixels = 0;
+};
+
+Comparison Compare(const std::vector<float>& image, const std::vector<float>& reference)
+{
+  Comparison c;
+  long counts[3][4] = {};
+  for (std::size_t p = 0; p < image.size(); p += 4)
+  {
+    if (!(image[p + 3] > 1e-6f || reference[p + 3] > 1e-6f))
+    {
+      continue;
+    }
+    ++c.Pixels;
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      const double e = std::abs(double(image[p + ch]) - double(reference[p + ch]));
+      c.MaximumError[ch] = std::max(c.MaximumError[ch], e);
+      for (int t = 0; t < 3; ++t)
+      {
+        counts[t][ch] += e > Comparison::Thresholds[t];
+      }
+    }
+  }
+  for (int t = 0; t < 3; ++t)
+  {
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      c.Exceeding[t][ch] = c.Pixels ? 100.0 * counts[t][ch] / c.Pixels : 0.0;
+    }
+  }
+  return c;
 }
 
 // Prints the mapper's progress on the terminal once a render takes a second.
@@ -510,6 +588,31 @@ int main(int argc, char* argv[])
     auto* pixels = vtkFloatArray::SafeDownCast(adaptive->GetRenderedImage()->GetPointData()->GetScalars());
     std::copy(pixels->GetPointer(0), pixels->GetPointer(0) + rgba.size(), rgba.begin());
   }
+  else if (auto* fixedPoint = vtkFixedPointVolumeRayCastMapper::SafeDownCast(mapper))
+  {
+    // Its own 15-bit image, finer than the window's 8 bits.
+    vtkFixedPointRayCastImage* cast = fixedPoint->GetRayCastImage();
+    const int* memory = cast->GetImageMemorySize();
+    const int* used = cast->GetImageInUseSize();
+    const int* origin = cast->GetImageOrigin();
+    const unsigned short* pixels = cast->GetImage();
+    for (int y = 0; y < used[1]; ++y)
+    {
+      for (int x = 0; x < used[0]; ++x)
+      {
+        const int vx = x + origin[0], vy = y + origin[1];
+        if (vx < 0 || vy < 0 || vx >= o.Width || vy >= o.Height)
+        {
+          continue;
+        }
+        for (int c = 0; c < 4; ++c)
+        {
+          rgba[4 * (static_cast<std::size_t>(vy) * o.Width + vx) + c] =
+            pixels[4 * (static_cast<std::size_t>(y) * memory[0] + x) + c] / 32767.0f;
+        }
+      }
+    }
+  }
   else
   {
     vtkNew<vtkWindowToImageFilter> grab;
@@ -526,6 +629,28 @@ int main(int argc, char* argv[])
   if (!o.Output.empty() && !WriteImage(o.Output, o.Width, o.Height, rgba))
   {
     return EXIT_FAILURE;
+  }
+
+  Comparison comparison;
+  if (!o.Compare.empty())
+  {
+    const std::vector<float> reference = ReadImage(o.Compare, o.Width, o.Height);
+    if (reference.empty())
+    {
+      return EXIT_FAILURE;
+    }
+    comparison = Compare(rgba, reference);
+    std::cout << "error against " << o.Compare << " over " << comparison.Pixels
+              << " pixels, % exceeding (R G B A):";
+    for (int t = 0; t < 3; ++t)
+    {
+      std::cout << "  " << Comparison::Thresholds[t] << ":";
+      for (int ch = 0; ch < 4; ++ch)
+      {
+        std::cout << " " << std::fixed << std::setprecision(2) << comparison.Exceeding[t][ch];
+      }
+    }
+    std::cout << std::defaultfloat << std::setprecision(6) << "\n";
   }
 
   const double median = Median(times);
@@ -555,6 +680,20 @@ int main(int argc, char* argv[])
            << "  \"width\": " << o.Width << ",\n  \"height\": " << o.Height << ",\n"
            << "  \"frames\": " << o.Frames << ",\n"
            << "  \"median_seconds\": " << median << ",\n  \"min_seconds\": " << fastest << ",\n";
+    if (!o.Compare.empty())
+    {
+      report << "  \"compare\": {\"reference\": " << JsonString(o.Compare)
+             << ", \"pixels\": " << comparison.Pixels << ", \"max_error_rgba\": ["
+             << comparison.MaximumError[0] << ", " << comparison.MaximumError[1] << ", "
+             << comparison.MaximumError[2] << ", " << comparison.MaximumError[3] << "]";
+      for (int t = 0; t < 3; ++t)
+      {
+        report << ", \"percent_above_" << Comparison::Thresholds[t] << "\": ["
+               << comparison.Exceeding[t][0] << ", " << comparison.Exceeding[t][1] << ", "
+               << comparison.Exceeding[t][2] << ", " << comparison.Exceeding[t][3] << "]";
+      }
+      report << "},\n";
+    }
     if (adaptive)
     {
       report << "  \"rays_cast\": " << adaptive->GetRaysCast() << ",\n"
