@@ -60,6 +60,40 @@ check(code == 0 and os.path.exists(exr), "EXR written: " + out)
 info = subprocess.run(["oiiotool", "--info", "-v", exr], capture_output=True, text=True).stdout
 check("4 channel" in info and "float" in info, "EXR is float RGBA: " + info)
 
+# Other input formats: a MetaImage written by VTK, a detached NRRD header.
+try:
+    from vtkmodules.vtkIOImage import vtkMetaImageWriter
+except ImportError:
+    vtkMetaImageWriter = None
+nhdr = os.path.join(SCRATCH, "neghip.nhdr")
+with open(nhdr, "w") as f:
+    f.write("NRRD0004\ntype: unsigned char\ndimension: 3\nsizes: 64 64 64\n"
+            "spacings: 1 1 1\nencoding: raw\ndata file: %s\n" % os.path.abspath(VOLUME))
+inputs = [nhdr]
+if vtkMetaImageWriter is not None:
+    from vtkmodules.vtkIOImage import vtkImageReader2
+    raw = vtkImageReader2()
+    raw.SetFileName(VOLUME)
+    raw.SetDataExtent(0, 63, 0, 63, 0, 63)
+    raw.SetDataScalarTypeToUnsignedChar()
+    raw.SetFileDimensionality(3)
+    mhd = os.path.join(SCRATCH, "neghip.mhd")
+    writer = vtkMetaImageWriter()
+    writer.SetInputConnection(raw.GetOutputPort())
+    writer.SetFileName(mhd)
+    writer.SetCompression(False)
+    writer.Write()
+    inputs.append(mhd)
+reference_output = None
+for path in inputs:
+    report = path + ".json"
+    code, out = run(path, "--tf", TF, "--size", "32x24", "--report", report)
+    check(code == 0 and os.path.exists(report), "reads " + path + ": " + out)
+    if code == 0:
+        rays = json.load(open(report))["rays_cast"]
+        check(reference_output in (None, rays), path + " gives the same rays as the others")
+        reference_output = rays
+
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
 check(code == 0 and "rays" in out, "default transfer function: " + out)

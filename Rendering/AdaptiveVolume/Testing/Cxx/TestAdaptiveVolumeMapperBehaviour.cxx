@@ -290,6 +290,30 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
     scene.Renderer->RemoveActor(actor);
   }
 
+  // The camera inside the volume: rays start at the near plane, in the blob.
+  {
+    scene.Mapper->SetInputData(volume);
+    vtkCamera* camera = scene.Renderer->GetActiveCamera();
+    const double c = 0.5 * (N - 1);
+    camera->SetFocalPoint(c + 10.0, c, c);
+    camera->SetPosition(c - 2.0, c, c);
+    camera->SetViewUp(0, 0, 1);
+    camera->SetClippingRange(0.1, 100.0);
+    vtkSmartPointer<vtkFloatArray> inside = scene.Render();
+    Expect(MaxAlpha(inside) > 0.5 && scene.Mapper->GetRaysCast() == Size * Size,
+      "camera inside: every ray starts in the volume");
+    // A far clipping plane inside the volume shortens every ray.
+    camera->SetClippingRange(0.1, 3.0);
+    vtkSmartPointer<vtkFloatArray> clipped = scene.Render();
+    double less = 0.0;
+    for (vtkIdType p = 0; p < clipped->GetNumberOfTuples(); ++p)
+    {
+      less = std::max(less, inside->GetComponent(p, 3) - clipped->GetComponent(p, 3));
+    }
+    Expect(less > 0.1 && MaxAlpha(clipped) > 0.0, "the far clipping plane is honoured");
+    scene.ResetView();
+  }
+
   // Bad input: a clear error, an empty image.
   avostest::ExpectedErrors errors(scene.Mapper);
   auto expectError = [&](const std::string& what, const std::string& message)
