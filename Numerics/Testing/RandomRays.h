@@ -94,6 +94,7 @@ Ray<Real> Make(unsigned seed)
       ray.Phase[i] = Real(6.283 * u(rng));
     }
   }
+  ray.TF.Finalize();
   return ray;
 }
 

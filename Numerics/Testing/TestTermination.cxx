@@ -1,6 +1,7 @@
 // Termination and defined results under adversarial input: every run stays
 // within MaximumAttempts(D, settings) and 5 samples per attempt, and gives a
 // finite RGBA in [0, 1].
+#include "RandomRays.h"
 #include "avos/numerics/RayIntegrators.h"
 
 #include <gtest/gtest.h>
@@ -161,3 +162,34 @@ TEST(Statistics, StepsRecordedAndCounted)
   EXPECT_LE(r.Statistics.LargestStep, s.MaximumStep);
   EXPECT_GT(r.Statistics.Samples, 0);
 }
+
+// The one-search lookup of a finalized transfer function gives what the
+// plain evaluators give, at knots, jumps, between knots, outside, at +-inf.
+TEST(TransferFunction, ClassifyMatchesTheEvaluators)
+{
+  for (unsigned seed = 0; seed < 40; ++seed)
+  {
+    auto tf = randomrays::Make<double>(seed).TF; // finalized, jumps in odd seeds
+    std::vector<double> probes = tf.GetKnotValues();
+    for (double v : tf.GetKnotValues())
+    {
+      probes.push_back(v - 1e-9);
+      probes.push_back(v + 0.37);
+    }
+    probes.push_back(-1e300);
+    probes.push_back(std::numeric_limits<double>::infinity());
+    probes.push_back(-std::numeric_limits<double>::infinity());
+    for (double s : probes)
+    {
+      double tau;
+      glm::dvec3 color;
+      tf.Classify(s, tau, color);
+      EXPECT_NEAR(tau, tf.GetExtinction(s), 1e-12 * (1 + tau)) << "seed " << seed << " s " << s;
+      for (int c = 0; c < 3; ++c)
+      {
+        EXPECT_NEAR(color[c], tf.GetColor(s)[c], 1e-12) << "seed " << seed << " s " << s;
+      }
+    }
+  }
+}
+

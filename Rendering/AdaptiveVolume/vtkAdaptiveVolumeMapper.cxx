@@ -602,6 +602,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     if (error.empty())
     {
       error = internals.TF.Validate();
+      internals.TF.Finalize();
     }
     if (!error.empty())
     {

@@ -193,8 +193,10 @@ public:
   Sample<Real> operator()(Real t) const
   {
     ++this->Stats.Samples;
-    const Real s = this->F(t);
-    return { s, this->TF.GetExtinction(s), this->TF.GetColor(s) };
+    Sample<Real> sample;
+    sample.Scalar = this->F(t);
+    this->TF.Classify(sample.Scalar, sample.Tau, sample.Color);
+    return sample;
   }
 
   const TransferFunction<Real>& GetTransferFunction() const { return this->TF; }

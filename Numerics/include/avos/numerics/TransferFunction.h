@@ -49,17 +49,49 @@ public:
   {
     this->ColorValues.push_back(s);
     this->Colors.push_back(Color(r, g, b));
+    this->Pieces.clear();
   }
   void AddOpacityKnot(Real s, Real value)
   {
     this->OpacityValues.push_back(s);
     this->Opacities.push_back(value);
+    this->Pieces.clear();
   }
 
   void SetOpacityModel(OpacityModel model, Real unitDistance = Real(1))
   {
     this->Model = model;
     this->UnitDistance = unitDistance;
+  }
+
+  // Builds the lookup that lets Classify() find tau and C with one search;
+  // call it after the last knot (adding a knot drops it). Without it, or
+  // when the knots are not valid, Classify() takes two searches.
+  void Finalize() { this->BuildPieces(); }
+
+  // tau(s) and C(s) together: what the integrators call per sample.
+  void Classify(Real s, Real& tau, Color& color) const
+  {
+    if (std::isnan(s) || this->Pieces.empty())
+    {
+      tau = this->GetExtinction(s);
+      color = this->GetColor(s);
+      return;
+    }
+    auto upper = std::upper_bound(this->Starts.begin(), this->Starts.end(), s);
+    if (upper == this->Starts.begin())
+    {
+      // Below the first knot: the first values (before a jump there).
+      tau = this->ToExtinction(this->Opacities.front());
+      color = this->Colors.front();
+      return;
+    }
+    const Piece& p = this->Pieces[static_cast<std::size_t>(upper - this->Starts.begin()) - 1];
+    // Clamped to the piece: holds the end values above the last knot, for an
+    // infinite scalar too.
+    const Real d = std::min(std::max(s - p.Start, Real(0)), p.Length);
+    tau = this->ToExtinction(p.Opacity + p.OpacitySlope * d);
+    color = p.Colour + p.ColourSlope * d;
   }
   OpacityModel GetOpacityModel() const { return this->Model; }
 
@@ -191,6 +223,62 @@ public:
   }
 
 private:
+  // Between consecutive knots of either function, both are linear: one piece
+  // per such interval, starting at its left knot with the right-continuous
+  // values there. The last piece (slopes 0) holds the end values.
+  struct Piece
+  {
+    Real Start;
+    Real Length; // 0 for the last piece
+    Real Opacity;
+    Real OpacitySlope;
+    Color Colour;
+    Color ColourSlope;
+  };
+
+  void BuildPieces()
+  {
+    this->Pieces.clear();
+    this->Starts.clear();
+    auto usable = [](const std::vector<Real>& v)
+    {
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        if (!std::isfinite(v[i]) || (i > 0 && v[i] < v[i - 1]))
+        {
+          return false;
+        }
+      }
+      return !v.empty();
+    };
+    if (!usable(this->ColorValues) || !usable(this->OpacityValues))
+    {
+      return; // Validate() reports it; Classify() falls back meanwhile
+    }
+    std::vector<Real> starts = this->GetKnotValues();
+    for (std::size_t i = 0; i < starts.size(); ++i)
+    {
+      Piece p;
+      p.Start = starts[i];
+      p.Opacity = Interpolate(this->OpacityValues, this->Opacities, p.Start);
+      p.Colour = Interpolate(this->ColorValues, this->Colors, p.Start);
+      p.Length = Real(0);
+      p.OpacitySlope = Real(0);
+      p.ColourSlope = Color(Real(0));
+      if (i + 1 < starts.size())
+      {
+        // Slopes from the midpoint: both functions are linear on the piece.
+        p.Length = starts[i + 1] - starts[i];
+        const Real h = Real(0.5) * p.Length;
+        const Real mid = p.Start + h;
+        p.OpacitySlope = (Interpolate(this->OpacityValues, this->Opacities, mid) - p.Opacity) / h;
+        p.ColourSlope = (Interpolate(this->ColorValues, this->Colors, mid) - p.Colour) / h;
+      }
+      this->Pieces.push_back(p);
+      this->Starts.push_back(p.Start);
+    }
+  }
+
   static bool HasValueIn(const std::vector<Real>& values, Real lo, Real hi)
   {
     auto i = std::upper_bound(values.begin(), values.end(), lo);
@@ -234,6 +322,8 @@ private:
   std::vector<Real> Opacities;
   OpacityModel Model = OpacityModel::Extinction;
   Real UnitDistance = Real(1);
+  std::vector<Piece> Pieces;
+  std::vector<Real> Starts;
 };
 
 } // namespace numerics
