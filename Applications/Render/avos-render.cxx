@@ -644,10 +644,10 @@ int main(int argc, char* argv[])
               << " pixels, % exceeding (R G B A):";
     for (int t = 0; t < 3; ++t)
     {
-      std::cout << "  " << Comparison::Thresholds[t] << ":";
+      std::cout << std::defaultfloat << "  " << Comparison::Thresholds[t] << ":" << std::fixed;
       for (int ch = 0; ch < 4; ++ch)
       {
-        std::cout << " " << std::fixed << std::setprecision(2) << comparison.Exceeding[t][ch];
+        std::cout << " " << std::setprecision(3) << comparison.Exceeding[t][ch];
       }
     }
     std::cout << std::defaultfloat << std::setprecision(6) << "\n";
