@@ -59,6 +59,20 @@ public:
     return ok;
   }
 
+  // True when the last operation raised a warning containing `expected`.
+  bool CheckWarning(const std::string& what, const std::string& expected)
+  {
+    const bool ok = this->Observer->GetWarning() &&
+      this->Observer->GetWarningMessage().find(expected) != std::string::npos;
+    if (!ok)
+    {
+      std::cerr << "FAIL " << what << ": expected a warning containing '" << expected
+                << "', got '" << this->Observer->GetWarningMessage() << "'\n";
+    }
+    this->Clear();
+    return ok;
+  }
+
   bool None(const std::string& what)
   {
     const bool ok = !this->Observer->GetError() && !this->Observer->GetWarning();

@@ -1,0 +1,144 @@
+/**
+ * @class   vtkOpenMeshDecimation
+ * @brief   topology-preserving decimation of triangle meshes by halfedge collapses
+ *
+ * vtkOpenMeshDecimation reduces a triangle mesh with OpenMesh's decimaters:
+ * halfedge collapses ordered by the quadric error (Garland and Heckbert),
+ * each one allowed only if it keeps the mesh manifold (the link condition: no
+ * holes, no change of genus) and passes the enabled constraints (bounded
+ * normal deviation, Hausdorff tolerance, maximum aspect ratio). A halfedge
+ * collapse removes one vertex and leaves the other where it was, so the
+ * output vertices are a subset of the input's, at their exact positions:
+ * all point data is carried across unchanged, and the array
+ * "vtkOriginalPointIds" records each output vertex's input id, so per-vertex
+ * results computed on the full surface apply to the decimated one as they
+ * are.
+ *
+ * The amount of decimation is a TargetReduction (the fraction of triangles
+ * to remove, like vtkDecimatePro's) or a TargetNumberOfVertices. Boundary
+ * vertices are kept unless BoundaryVertexDeletion is on, so boundaries keep
+ * their shape; a collapse that would change a boundary's topology is never
+ * taken. The reduction may stop short of the target when no collapse passes
+ * the constraints; GetAchievedReduction() says how far it got.
+ *
+ * Input: polygons (triangulated first when they are not triangles); vertices,
+ * lines and strips are ignored with a warning. Faces that cannot join a
+ * manifold mesh (a third face on an edge, a pinched vertex) keep their own
+ * copies of their vertices and are reported with a warning; degenerate
+ * triangles are dropped and reported.
+ *
+ * @sa vtkDecimatePro vtkQuadricDecimation
+ */
+#ifndef vtkOpenMeshDecimation_h
+#define vtkOpenMeshDecimation_h
+
+#include "avosFiltersDecimationModule.h" // For export macro
+#include "vtkPolyDataAlgorithm.h"
+
+class AVOSFILTERSDECIMATION_EXPORT vtkOpenMeshDecimation : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkOpenMeshDecimation* New();
+  vtkTypeMacro(vtkOpenMeshDecimation, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * Fraction of the triangles to remove, in [0, 1). Default 0.5. Used when
+   * TargetNumberOfVertices is 0.
+   */
+  vtkSetClampMacro(TargetReduction, double, 0.0, 1.0);
+  vtkGetMacro(TargetReduction, double);
+  ///@}
+
+  ///@{
+  /**
+   * Number of vertices to keep instead of a reduction; 0 (the default) uses
+   * TargetReduction.
+   */
+  vtkSetClampMacro(TargetNumberOfVertices, vtkIdType, 0, VTK_ID_MAX);
+  vtkGetMacro(TargetNumberOfVertices, vtkIdType);
+  ///@}
+
+  enum DecimaterTypes
+  {
+    EXACT = 0,       // always the collapse of least quadric error (a priority queue)
+    MULTIPLE_CHOICE, // the best of a few random candidates per step: faster, coarser
+    MIXED            // multiple choice for most of the way, exact for the last 20 %
+  };
+
+  ///@{
+  /**
+   * Which of OpenMesh's decimaters runs. Default EXACT.
+   */
+  vtkSetClampMacro(DecimaterType, int, EXACT, MIXED);
+  vtkGetMacro(DecimaterType, int);
+  void SetDecimaterTypeToExact() { this->SetDecimaterType(EXACT); }
+  void SetDecimaterTypeToMultipleChoice() { this->SetDecimaterType(MULTIPLE_CHOICE); }
+  void SetDecimaterTypeToMixed() { this->SetDecimaterType(MIXED); }
+  ///@}
+
+  ///@{
+  /**
+   * Largest angle, in degrees, by which a collapse may turn the normal of a
+   * face around it. Default 90: no face may flip. 180 disables the check.
+   */
+  vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 180.0);
+  vtkGetMacro(MaximumNormalDeviation, double);
+  ///@}
+
+  ///@{
+  /**
+   * Largest distance, in world units, between a removed vertex and the
+   * decimated surface; 0 (the default) disables the constraint.
+   */
+  vtkSetClampMacro(HausdorffTolerance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(HausdorffTolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Largest aspect ratio (a triangle's longest edge over its height: 1.155
+   * for an equilateral triangle) a collapse may create, unless it improves on
+   * the worst triangle around it; 0 (the default) disables the constraint.
+   */
+  vtkSetClampMacro(MaximumAspectRatio, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaximumAspectRatio, double);
+  ///@}
+
+  ///@{
+  /**
+   * Allow boundary vertices to be removed (along their boundary). Default
+   * off: boundaries are kept exactly.
+   */
+  vtkSetMacro(BoundaryVertexDeletion, vtkTypeBool);
+  vtkGetMacro(BoundaryVertexDeletion, vtkTypeBool);
+  vtkBooleanMacro(BoundaryVertexDeletion, vtkTypeBool);
+  ///@}
+
+  /**
+   * Fraction of the input triangles removed by the last update.
+   */
+  vtkGetMacro(AchievedReduction, double);
+
+protected:
+  vtkOpenMeshDecimation() = default;
+  ~vtkOpenMeshDecimation() override = default;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  double TargetReduction = 0.5;
+  vtkIdType TargetNumberOfVertices = 0;
+  int DecimaterType = EXACT;
+  double MaximumNormalDeviation = 90.0;
+  double HausdorffTolerance = 0.0;
+  double MaximumAspectRatio = 0.0;
+  vtkTypeBool BoundaryVertexDeletion = 0;
+  double AchievedReduction = 0.0;
+
+private:
+  vtkOpenMeshDecimation(const vtkOpenMeshDecimation&) = delete;
+  void operator=(const vtkOpenMeshDecimation&) = delete;
+};
+
+#endif
