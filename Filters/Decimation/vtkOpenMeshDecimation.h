@@ -64,18 +64,20 @@ public:
   {
     EXACT = 0,       // always the collapse of least quadric error (a priority queue)
     MULTIPLE_CHOICE, // the best of a few random candidates per step: faster, coarser
-    MIXED            // multiple choice for most of the way, exact for the last 20 %
+    MIXED,           // multiple choice for most of the way, exact for the last 20 %
+    LAZY // the exact order, with legality and constraints checked only when a candidate is next
   };
 
   ///@{
   /**
    * Which of OpenMesh's decimaters runs. Default EXACT.
    */
-  vtkSetClampMacro(DecimaterType, int, EXACT, MIXED);
+  vtkSetClampMacro(DecimaterType, int, EXACT, LAZY);
   vtkGetMacro(DecimaterType, int);
   void SetDecimaterTypeToExact() { this->SetDecimaterType(EXACT); }
   void SetDecimaterTypeToMultipleChoice() { this->SetDecimaterType(MULTIPLE_CHOICE); }
   void SetDecimaterTypeToMixed() { this->SetDecimaterType(MIXED); }
+  void SetDecimaterTypeToLazy() { this->SetDecimaterType(LAZY); }
   ///@}
 
   ///@{

@@ -160,6 +160,7 @@ int main(int argc, char* argv[])
     };
   };
   const std::vector<std::pair<std::string, Decimator>> filters = {
+    { "vtkOpenMeshDecimation lazy", openMesh(vtkOpenMeshDecimation::LAZY) },
     { "vtkOpenMeshDecimation exact", openMesh(vtkOpenMeshDecimation::EXACT) },
     { "vtkOpenMeshDecimation mixed", openMesh(vtkOpenMeshDecimation::MIXED) },
     { "vtkOpenMeshDecimation multiple choice", openMesh(vtkOpenMeshDecimation::MULTIPLE_CHOICE) },

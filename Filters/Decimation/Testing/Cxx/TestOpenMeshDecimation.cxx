@@ -190,7 +190,7 @@ int TestOpenMeshDecimation(int, char*[])
   vtkNew<vtkOpenMeshDecimation> decimate;
   decimate->SetInputData(torus);
   for (int type : { vtkOpenMeshDecimation::EXACT, vtkOpenMeshDecimation::MULTIPLE_CHOICE,
-         vtkOpenMeshDecimation::MIXED })
+         vtkOpenMeshDecimation::MIXED, vtkOpenMeshDecimation::LAZY })
   {
     decimate->SetDecimaterType(type);
     for (double target : { 0.25, 0.5, 0.75, 0.9 })
