@@ -8,12 +8,12 @@
 #include "vtkOpenMeshDecimation.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkRenderWindow.h"
-#include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkSampleFunction.h"
 #include "vtkSuperquadric.h"
+
+#include "avosImageTest.h"
 
 int TestOpenMeshDecimationRendering(int argc, char* argv[])
 {
@@ -59,14 +59,5 @@ int TestOpenMeshDecimationRendering(int argc, char* argv[])
     renderer->GetActiveCamera()->Elevation(50.0);
     renderer->GetActiveCamera()->Zoom(1.4);
   }
-  vtkNew<vtkRenderWindowInteractor> interactor;
-  interactor->SetRenderWindow(window);
-  window->Render();
-
-  const int result = vtkRegressionTestImage(window);
-  if (result == vtkRegressionTester::DO_INTERACTOR)
-  {
-    interactor->Start();
-  }
-  return result == vtkRegressionTester::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return avostest::CompareWithBaseline(argc, argv, window);
 }

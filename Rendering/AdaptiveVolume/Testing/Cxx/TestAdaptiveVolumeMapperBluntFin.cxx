@@ -2,13 +2,12 @@
 // transfer function from the adaptive-integration paper, in the paper's
 // extinction model, with each integration method. Reads the shared data
 // folder (-D); skipped (exit code 125) without it.
-#include "vtkRegressionTestImage.h"
-#include "vtkRenderWindowInteractor.h"
 #include "vtkTestUtilities.h"
 #include "vtkTransferFunction1DReader.h"
 #include "vtkVolvisRawReader.h"
 
 #include "MethodGrid.h"
+#include "avosImageTest.h"
 
 #include <vtksys/SystemTools.hxx>
 
@@ -45,14 +44,5 @@ int TestAdaptiveVolumeMapperBluntFin(int argc, char* argv[])
   window->SetMultiSamples(0);
   methodgrid::Grid grid = methodgrid::Build(window, reader->GetOutputPort(), property,
     vtkAdaptiveVolumeMapper::EXTINCTION_OPACITY, 20.0, 30.0);
-  vtkNew<vtkRenderWindowInteractor> interactor;
-  interactor->SetRenderWindow(window);
-  window->Render();
-
-  const int result = vtkRegressionTestImage(window);
-  if (result == vtkRegressionTester::DO_INTERACTOR)
-  {
-    interactor->Start();
-  }
-  return result == vtkRegressionTester::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return avostest::CompareWithBaseline(argc, argv, window);
 }

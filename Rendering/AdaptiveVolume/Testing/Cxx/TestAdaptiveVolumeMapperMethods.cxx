@@ -9,10 +9,9 @@
 #include "vtkPiecewiseFunction.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
-#include "vtkRenderWindowInteractor.h"
 
 #include "MethodGrid.h"
+#include "avosImageTest.h"
 
 int TestAdaptiveVolumeMapperMethods(int argc, char* argv[])
 {
@@ -57,14 +56,5 @@ int TestAdaptiveVolumeMapperMethods(int argc, char* argv[])
       actor->GetProperty()->SetColor(0.9, 0.2, 0.2);
       renderer->AddActor(actor);
     });
-  vtkNew<vtkRenderWindowInteractor> interactor;
-  interactor->SetRenderWindow(window);
-  window->Render();
-
-  const int result = vtkRegressionTestImage(window);
-  if (result == vtkRegressionTester::DO_INTERACTOR)
-  {
-    interactor->Start();
-  }
-  return result == vtkRegressionTester::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return avostest::CompareWithBaseline(argc, argv, window);
 }
