@@ -1,13 +1,11 @@
 #include "vtkAdaptiveVolumeMapper.h"
 
 #include "vtkCamera.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
-#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
@@ -17,6 +15,8 @@
 #include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
+
+#include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/RayIntegrators.h"
@@ -41,9 +41,6 @@ constexpr int TileSize = 16;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
 constexpr double SegmentPad = 1e-6;
-// Sub-knots per node interval where VTK's function is not linear in RGB
-// (midpoint/sharpness, HSV/Lab/diverging colour spaces).
-constexpr int ResampledKnots = 16;
 
 // What a frame's ray cast depends on, besides the data and the property.
 struct FrameGeometry
@@ -243,90 +240,6 @@ private:
   vtkSMPThreadLocal<Segments>& SegmentBuffers;
   int TilesX = 0;
 };
-
-// VTK's transfer functions as piecewise-linear knots. Where VTK does not
-// interpolate linearly in RGB (midpoint or sharpness moved, non-RGB colour
-// space), the interval is resampled with ResampledKnots sub-knots.
-std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf)
-{
-  if (property->GetColorChannels(0) == 1)
-  {
-    vtkPiecewiseFunction* gray = property->GetGrayTransferFunction(0);
-    const int n = gray ? gray->GetSize() : 0;
-    if (n == 0)
-    {
-      return "the gray transfer function is empty";
-    }
-    for (int i = 0; i < n; ++i)
-    {
-      double node[4], next[4];
-      gray->GetNodeValue(i, node);
-      tf.AddColorKnot(node[0], node[1], node[1], node[1]);
-      if (i + 1 < n && (node[2] != 0.5 || node[3] != 0.0))
-      {
-        gray->GetNodeValue(i + 1, next);
-        for (int k = 1; k < ResampledKnots; ++k)
-        {
-          const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
-          const double v = gray->GetValue(s);
-          tf.AddColorKnot(s, v, v, v);
-        }
-      }
-    }
-    return std::string();
-  }
-  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
-  const int n = color ? color->GetSize() : 0;
-  if (n == 0)
-  {
-    return "the colour transfer function is empty";
-  }
-  const bool linearSpace = color->GetColorSpace() == VTK_CTF_RGB;
-  for (int i = 0; i < n; ++i)
-  {
-    double node[6], next[6];
-    color->GetNodeValue(i, node);
-    tf.AddColorKnot(node[0], node[1], node[2], node[3]);
-    if (i + 1 < n && (!linearSpace || node[4] != 0.5 || node[5] != 0.0))
-    {
-      color->GetNodeValue(i + 1, next);
-      for (int k = 1; k < ResampledKnots; ++k)
-      {
-        const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
-        double rgb[3];
-        color->GetColor(s, rgb);
-        tf.AddColorKnot(s, rgb[0], rgb[1], rgb[2]);
-      }
-    }
-  }
-  return std::string();
-}
-
-std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf)
-{
-  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
-  const int n = opacity ? opacity->GetSize() : 0;
-  if (n == 0)
-  {
-    return "the scalar opacity function is empty";
-  }
-  for (int i = 0; i < n; ++i)
-  {
-    double node[4], next[4];
-    opacity->GetNodeValue(i, node);
-    tf.AddOpacityKnot(node[0], node[1]);
-    if (i + 1 < n && (node[2] != 0.5 || node[3] != 0.0))
-    {
-      opacity->GetNodeValue(i + 1, next);
-      for (int k = 1; k < ResampledKnots; ++k)
-      {
-        const double s = node[0] + (next[0] - node[0]) * k / ResampledKnots;
-        tf.AddOpacityKnot(s, opacity->GetValue(s));
-      }
-    }
-  }
-  return std::string();
-}
 
 template <typename Storage>
 std::size_t ComputeRanges(an::EmptySpaceMap<double>& map, const Storage* data)
@@ -588,22 +501,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (property->GetMTime() != internals.PropertyTime || this->OpacityModel != internals.OpacityModel ||
     voxel != internals.Voxel || internals.ClassifyTime < internals.RangesTime)
   {
-    internals.TF = TransferFunction();
-    std::string error = ConvertColor(property, internals.TF);
-    if (error.empty())
-    {
-      error = ConvertOpacity(property, internals.TF);
-    }
-    if (this->OpacityModel == VTK_OPACITY)
-    {
-      internals.TF.SetOpacityModel(
-        an::OpacityModel::Alpha, property->GetScalarOpacityUnitDistance(0) / voxel);
-    }
-    if (error.empty())
-    {
-      error = internals.TF.Validate();
-      internals.TF.Finalize();
-    }
+    const std::string error = avos::TransferFunctionFromProperty(
+      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
