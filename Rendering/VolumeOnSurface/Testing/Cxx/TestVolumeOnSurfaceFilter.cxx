@@ -1,0 +1,163 @@
+// vtkVolumeOnSurfaceFilter against a closed form: a constant volume on
+// [-1, 1]^3 seen through a horizontal square at z = 0 from above. Every ray
+// of the 20-degree cone of a central vertex leaves through the top face after
+// 1 / cos 20 world units, so its RGBA is c (1 - e^{-tau L}), 1 - e^{-tau L};
+// that cone is the closest to the vertical observation line. Then: a camera
+// change only reassigns, a transfer-function change casts again, a camera
+// below the surface sees no ray, the memory report, and bad input.
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPlaneSource.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkVolumeOnSurfaceFilter.h"
+#include "vtkVolumeProperty.h"
+
+#include "avosTestHelpers.h"
+
+#include <cmath>
+#include <iostream>
+
+namespace
+{
+int Failures = 0;
+void Expect(bool ok, const std::string& what)
+{
+  if (!ok)
+  {
+    std::cerr << "FAIL " << what << "\n";
+    ++Failures;
+  }
+}
+} // namespace
+
+int TestVolumeOnSurfaceFilter(int, char*[])
+{
+  const double color[3] = { 0.2, 0.6, 0.9 }, tau = 0.05, voxel = 1.0 / 16.0;
+  vtkNew<vtkImageData> volume;
+  volume->SetDimensions(33, 33, 33);
+  volume->SetOrigin(-1, -1, -1);
+  volume->SetSpacing(voxel, voxel, voxel);
+  volume->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  volume->GetPointData()->GetScalars()->Fill(100);
+
+  vtkNew<vtkColorTransferFunction> ctf;
+  ctf->AddRGBPoint(0, color[0], color[1], color[2]);
+  ctf->AddRGBPoint(255, color[0], color[1], color[2]);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0, tau);
+  opacity->AddPoint(255, tau);
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(ctf);
+  property->SetScalarOpacity(opacity);
+
+  vtkNew<vtkPlaneSource> square;
+  square->SetOrigin(-0.8, -0.8, 0);
+  square->SetPoint1(0.8, -0.8, 0);
+  square->SetPoint2(-0.8, 0.8, 0);
+  square->SetResolution(8, 8);
+
+  vtkNew<vtkCamera> camera;
+  camera->ParallelProjectionOn();
+  camera->SetPosition(0, 0, 5);
+  camera->SetFocalPoint(0, 0, 0);
+
+  vtkNew<vtkVolumeOnSurfaceFilter> vos;
+  vos->SetInputConnection(square->GetOutputPort());
+  vos->SetInputData(1, volume);
+  vos->SetVolumeProperty(property);
+  vos->SetCamera(camera);
+  vos->ExtinctionOpacityOn();
+
+  const double L = 1.0 / std::cos(vtkMath::RadiansFromDegrees(20.0)) / voxel;
+  const double alpha = 1.0 - std::exp(-tau * L);
+  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE })
+  {
+    vos->SetIntegrationMethod(method);
+    vos->Update();
+    vtkPolyData* out = vos->GetOutput();
+    vtkDataArray* colors = out->GetPointData()->GetArray("VoSColors");
+    vtkDataArray* rays = out->GetPointData()->GetArray("VoSRay");
+    Expect(colors && rays && out->GetPointData()->GetScalars() == colors, "output arrays");
+    if (!colors || !rays)
+    {
+      return EXIT_FAILURE;
+    }
+    Expect(vos->GetNumberOfRaysCast() == 81 * 12, "12 rays per vertex cast");
+    int central = 0;
+    for (vtkIdType v = 0; v < out->GetNumberOfPoints(); ++v)
+    {
+      double p[3];
+      out->GetPoint(v, p);
+      if (std::abs(p[0]) > 0.6 + 1e-6 || std::abs(p[1]) > 0.6 + 1e-6)
+      {
+        continue;
+      }
+      ++central;
+      const int ray = static_cast<int>(rays->GetTuple1(v));
+      Expect(ray >= 0 && ray < 4, "the 20-degree cone is chosen");
+      for (int c = 0; c < 4; ++c)
+      {
+        const double exact = 255.0 * (c < 3 ? color[c] * alpha : alpha);
+        Expect(std::abs(colors->GetComponent(v, c) - exact) <= 0.5 + 1e-6,
+          "central vertex colour = closed form (rounded to 8 bits)");
+      }
+    }
+    Expect(central == 49, "49 central vertices");
+  }
+
+  // A camera change only reassigns; a transfer-function change casts again.
+  camera->Azimuth(10);
+  vos->Update();
+  Expect(vos->GetNumberOfRaysCast() == 0, "camera change: assignment only");
+  opacity->AddPoint(50, tau);
+  vos->Update();
+  Expect(vos->GetNumberOfRaysCast() == 81 * 12, "transfer-function change: rays cast again");
+
+  // From below, no ray of the upward cones faces the viewer.
+  camera->SetPosition(0, 0, -5);
+  camera->SetViewUp(0, 1, 0);
+  vos->Update();
+  Expect(vos->GetOutput()->GetPointData()->GetArray("VoSRay")->GetRange()[1] == -1,
+    "seen from below: no ray");
+  Expect(vos->GetConesMemory() == 81 * 12 * (3 + 4) * 4, "cones memory");
+  Expect(vos->GetVolumeMemory() >= 33 * 33 * 33, "volume memory");
+  camera->SetPosition(0, 0, 5);
+
+  // Bad input.
+  avostest::ExpectedErrors errors(vos);
+  vos->SetRaysPerCone(0);
+  vos->Update();
+  Expect(errors.Check("zero rays", "one ray per cone"), "zero rays per cone");
+  Expect(vos->GetOutput()->GetNumberOfPoints() == 0, "empty output after an error");
+  vos->SetRaysPerCone(4);
+
+  vtkNew<vtkImageData> vectors;
+  vectors->SetDimensions(4, 4, 4);
+  vectors->AllocateScalars(VTK_FLOAT, 3);
+  vos->SetInputData(1, vectors);
+  vos->Update();
+  Expect(errors.Check("multi-component", "single-component"), "multi-component volume");
+  vos->SetInputData(1, volume);
+
+  vtkNew<vtkPlaneSource> far;
+  far->SetCenter(10, 10, 10);
+  vos->SetInputConnection(far->GetOutputPort());
+  vos->Update();
+  Expect(errors.Check("outside", "outside the volume"), "surface outside the volume");
+
+  vtkNew<vtkPolyData> empty;
+  vos->SetInputData(empty);
+  vos->Update();
+  Expect(errors.Check("empty surface", "empty"), "empty surface");
+
+  vos->SetInputConnection(square->GetOutputPort());
+  vos->Update();
+  Expect(errors.None("good input again"), "recovers");
+  return Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

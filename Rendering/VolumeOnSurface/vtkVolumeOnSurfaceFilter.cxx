@@ -1,0 +1,513 @@
+#include "vtkVolumeOnSurfaceFilter.h"
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataNormals.h"
+#include "vtkSMPTools.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolumeProperty.h"
+
+#include "avosTransferFunctionFromProperty.h"
+
+#include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/Volume.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace
+{
+namespace an = avos::numerics;
+
+// Everything the previsualization depends on: when it is unchanged, an
+// execution only assigns colours.
+struct PrevisualizationKey
+{
+  std::vector<double> Angles;
+  int RaysPerCone = 0;
+  bool Flip = false;
+  int Method = 0;
+  double SampleDistance = 0.0;
+  double Tolerance = 0.0;
+  bool Extinction = false;
+  vtkMTimeType Surface = 0;
+  vtkMTimeType Volume = 0;
+  vtkMTimeType Property = 0;
+
+  bool operator==(const PrevisualizationKey& o) const
+  {
+    return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone &&
+      this->Flip == o.Flip && this->Method == o.Method &&
+      this->SampleDistance == o.SampleDistance && this->Tolerance == o.Tolerance &&
+      this->Extinction == o.Extinction && this->Surface == o.Surface &&
+      this->Volume == o.Volume && this->Property == o.Property;
+  }
+};
+
+// The volume seen from outside along one ray: the segment from the vertex
+// along `direction` to the volume's boundary, integrated from that boundary
+// back to the vertex (front to back for an eye looking along -direction).
+template <typename Storage>
+struct ConeCaster
+{
+  const an::TrilinearVolume<double, Storage> Volume;
+  const int* Dimensions;
+  const double* WorldToGrid; // 4x4, row major
+  double Voxel;
+  const an::TransferFunction<double>& TF;
+  int Method;
+  double SampleDistance;
+  an::AdaptiveSettings<double> Adaptive;
+
+  glm::dvec4 Cast(const glm::dvec3& vertex, const glm::dvec3& direction) const
+  {
+    const double* m = this->WorldToGrid;
+    auto toGrid = [m](const glm::dvec3& p, double w)
+    {
+      return glm::dvec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w,
+        m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
+        m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11] * w);
+    };
+    const glm::dvec3 start = toGrid(vertex, 1.0);
+    // Grid step per voxel unit of world length.
+    const glm::dvec3 step = toGrid(direction * this->Voxel, 0.0);
+    double t0 = 0.0, t1 = 1e300;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double hi = this->Dimensions[a] - 1;
+      if (step[a] == 0.0)
+      {
+        if (start[a] < 0.0 || start[a] > hi)
+        {
+          return glm::dvec4(0.0);
+        }
+        continue;
+      }
+      double ta = -start[a] / step[a], tb = (hi - start[a]) / step[a];
+      if (ta > tb)
+      {
+        std::swap(ta, tb);
+      }
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    if (!(t0 < t1))
+    {
+      return glm::dvec4(0.0);
+    }
+    const double D = t1 - t0;
+    // From the far end back towards the vertex (or its entry into the box).
+    const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ this->Volume,
+      start + t1 * step, -step };
+    const an::RayResult<double> r = this->Method == vtkVolumeOnSurfaceFilter::ADAPTIVE
+      ? an::IntegrateAdaptive(field, this->TF, D, this->Adaptive)
+      : [&]()
+        {
+          const an::Interval<double> whole{ 0.0, D };
+          return an::IntegrateRiemann(field, this->TF, D, this->SampleDistance,
+            an::RiemannForm::Exponential, &whole, 1, 0.2 * this->Adaptive.Tolerance);
+        }();
+    return r.RGBA;
+  }
+};
+
+// Unit vectors u, w completing the unit normal n to an orthonormal basis.
+void Basis(const glm::dvec3& n, glm::dvec3& u, glm::dvec3& w)
+{
+  const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  u = glm::normalize(glm::cross(n, helper));
+  w = glm::cross(n, u);
+}
+} // namespace
+
+class vtkVolumeOnSurfaceFilter::vtkInternals
+{
+public:
+  std::vector<double> Angles{ 20.0, 45.0, 70.0 };
+  PrevisualizationKey Key;
+  bool HaveRays = false;
+  // Per vertex and ray: the direction (world) and the integrated RGBA.
+  std::vector<glm::fvec3> Directions;
+  std::vector<glm::fvec4> Colors;
+  int RaysPerVertex = 0;
+  // The surface with normals (the input's, or computed once per surface).
+  vtkSmartPointer<vtkPolyData> WithNormals;
+  vtkPolyData* NormalsSource = nullptr;
+  vtkMTimeType NormalsTime = 0;
+};
+
+vtkStandardNewMacro(vtkVolumeOnSurfaceFilter);
+vtkCxxSetObjectMacro(vtkVolumeOnSurfaceFilter, VolumeProperty, vtkVolumeProperty);
+
+vtkVolumeOnSurfaceFilter::vtkVolumeOnSurfaceFilter()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+vtkVolumeOnSurfaceFilter::~vtkVolumeOnSurfaceFilter()
+{
+  this->SetVolumeProperty(nullptr);
+  this->SetCamera(nullptr);
+}
+
+void vtkVolumeOnSurfaceFilter::SetCamera(vtkCamera* camera)
+{
+  if (camera != this->Camera)
+  {
+    vtkCamera* old = this->Camera;
+    this->Camera = camera;
+    if (camera)
+    {
+      camera->Register(this);
+    }
+    if (old)
+    {
+      old->UnRegister(this);
+    }
+    this->Modified();
+  }
+}
+
+void vtkVolumeOnSurfaceFilter::SetVolumeConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+void vtkVolumeOnSurfaceFilter::AddOpeningAngle(double degrees)
+{
+  this->Internals->Angles.push_back(degrees);
+  this->Modified();
+}
+
+void vtkVolumeOnSurfaceFilter::RemoveAllOpeningAngles()
+{
+  this->Internals->Angles.clear();
+  this->Modified();
+}
+
+int vtkVolumeOnSurfaceFilter::GetNumberOfCones()
+{
+  return static_cast<int>(this->Internals->Angles.size());
+}
+
+double vtkVolumeOnSurfaceFilter::GetOpeningAngle(int cone)
+{
+  return cone >= 0 && cone < this->GetNumberOfCones() ? this->Internals->Angles[cone] : 0.0;
+}
+
+vtkMTimeType vtkVolumeOnSurfaceFilter::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->Camera)
+  {
+    t = std::max(t, this->Camera->GetMTime());
+  }
+  if (this->VolumeProperty)
+  {
+    t = std::max(t, this->VolumeProperty->GetMTime());
+  }
+  return t;
+}
+
+int vtkVolumeOnSurfaceFilter::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), port == 0 ? "vtkPolyData" : "vtkImageData");
+  return 1;
+}
+
+int vtkVolumeOnSurfaceFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* surface = vtkPolyData::GetData(inputVector[0]);
+  vtkImageData* volume = vtkImageData::GetData(inputVector[1]);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector);
+  vtkInternals& in = *this->Internals;
+  this->NumberOfRaysCast = 0;
+
+  // Checks: a clear error and an empty output for each bad input.
+  if (!surface || surface->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro(<< "The surface (input 0) is empty.");
+    return 1;
+  }
+  if (!volume)
+  {
+    vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
+    return 1;
+  }
+  vtkDataArray* scalars = volume->GetPointData()->GetScalars();
+  int dims[3];
+  volume->GetDimensions(dims);
+  if (!scalars || scalars->GetNumberOfComponents() != 1 || dims[0] < 2 || dims[1] < 2 ||
+    dims[2] < 2)
+  {
+    vtkErrorMacro(<< "The volume needs single-component point scalars and at least 2 points "
+                     "along each axis.");
+    return 1;
+  }
+  if (!this->VolumeProperty)
+  {
+    vtkErrorMacro(<< "No volume property: SetVolumeProperty().");
+    return 1;
+  }
+  if (this->RaysPerCone < 1 || in.Angles.empty())
+  {
+    vtkErrorMacro(<< "There must be at least one cone and one ray per cone (cones: "
+                  << in.Angles.size() << ", rays per cone: " << this->RaysPerCone << ").");
+    return 1;
+  }
+  for (double a : in.Angles)
+  {
+    if (!(a > 0.0 && a <= 90.0))
+    {
+      vtkErrorMacro(<< "Opening angles must be in (0, 90] degrees, not " << a << ".");
+      return 1;
+    }
+  }
+  if (!(this->SampleDistance > 0.0) || !(this->Tolerance > 0.0))
+  {
+    vtkErrorMacro(<< "The sample distance and the tolerance must be positive.");
+    return 1;
+  }
+  if (!this->Camera)
+  {
+    vtkErrorMacro(<< "No camera to assign the colours for: SetCamera().");
+    return 1;
+  }
+  double surfaceBounds[6], volumeBounds[6];
+  surface->GetBounds(surfaceBounds);
+  volume->GetBounds(volumeBounds);
+  bool overlap = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    overlap = overlap && surfaceBounds[2 * a] <= volumeBounds[2 * a + 1] &&
+      surfaceBounds[2 * a + 1] >= volumeBounds[2 * a];
+  }
+  if (!overlap)
+  {
+    vtkErrorMacro(<< "The surface lies outside the volume.");
+    return 1;
+  }
+
+  // Normals: the input's, or computed (once per surface: a camera change
+  // must stay cheap).
+  if (surface->GetPointData()->GetNormals())
+  {
+    in.WithNormals = surface;
+  }
+  else if (in.NormalsSource != surface || in.NormalsTime != surface->GetMTime() ||
+    !in.WithNormals)
+  {
+    vtkNew<vtkPolyDataNormals> computed;
+    computed->SetInputData(surface);
+    computed->SplittingOff();
+    computed->ConsistencyOn();
+    computed->Update();
+    in.WithNormals = computed->GetOutput();
+    in.NormalsSource = surface;
+    in.NormalsTime = surface->GetMTime();
+  }
+  vtkPolyData* withNormals = in.WithNormals;
+  vtkDataArray* normals = withNormals->GetPointData()->GetNormals();
+  const vtkIdType n = withNormals->GetNumberOfPoints();
+  const int raysPerVertex = static_cast<int>(in.Angles.size()) * this->RaysPerCone;
+
+  // Previsualization, unless nothing it depends on changed.
+  PrevisualizationKey key;
+  key.Angles = in.Angles;
+  key.RaysPerCone = this->RaysPerCone;
+  key.Flip = this->FlipNormals != 0;
+  key.Method = this->IntegrationMethod;
+  key.SampleDistance = this->SampleDistance;
+  key.Tolerance = this->Tolerance;
+  key.Extinction = this->ExtinctionOpacity != 0;
+  key.Surface = surface->GetMTime();
+  key.Volume = volume->GetMTime();
+  key.Property = this->VolumeProperty->GetMTime();
+  if (!in.HaveRays || !(key == in.Key))
+  {
+    in.HaveRays = false;
+    const double* spacing = volume->GetSpacing();
+    const double voxel =
+      std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
+    if (!(voxel > 0.0))
+    {
+      vtkErrorMacro(<< "The volume's spacing must be non-zero.");
+      return 1;
+    }
+    an::TransferFunction<double> tf;
+    const std::string error =
+      avos::TransferFunctionFromProperty(this->VolumeProperty, key.Extinction, voxel, tf);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
+      return 1;
+    }
+    // World -> grid index (origin, spacing, direction, extent start).
+    double worldToGrid[16];
+    {
+      vtkNew<vtkMatrix4x4> gridToWorld, start, inverse;
+      const int* extent = volume->GetExtent();
+      for (int a = 0; a < 3; ++a)
+      {
+        start->SetElement(a, 3, extent[2 * a]);
+      }
+      vtkMatrix4x4::Multiply4x4(volume->GetIndexToPhysicalMatrix(), start, gridToWorld);
+      vtkMatrix4x4::Invert(gridToWorld, inverse);
+      std::copy(inverse->GetData(), inverse->GetData() + 16, worldToGrid);
+    }
+
+    in.RaysPerVertex = raysPerVertex;
+    in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
+    in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
+    an::AdaptiveSettings<double> adaptive;
+    adaptive.Tolerance = this->Tolerance;
+    adaptive.FieldMinimum = scalars->GetRange(0)[0];
+    adaptive.FieldMaximum = scalars->GetRange(0)[1];
+    const double sign = this->FlipNormals ? -1.0 : 1.0;
+    const int perCone = this->RaysPerCone;
+    auto previsualize = [&](auto* data)
+    {
+      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+      const ConeCaster<Storage> caster{ an::TrilinearVolume<double, Storage>(data, dims), dims,
+        worldToGrid, voxel, tf, this->IntegrationMethod, this->SampleDistance, adaptive };
+      vtkSMPTools::For(0, n,
+        [&](vtkIdType begin, vtkIdType end)
+        {
+          for (vtkIdType v = begin; v < end; ++v)
+          {
+            double p[3], nv[3];
+            withNormals->GetPoint(v, p);
+            normals->GetTuple(v, nv);
+            glm::dvec3 normal(nv[0], nv[1], nv[2]);
+            const double length = glm::length(normal);
+            if (!(length > 0.0) || !std::isfinite(length))
+            {
+              continue; // no normal, no cones: the vertex stays unassigned
+            }
+            normal *= sign / length;
+            glm::dvec3 u, w;
+            Basis(normal, u, w);
+            std::size_t r = static_cast<std::size_t>(v) * raysPerVertex;
+            for (double angle : in.Angles)
+            {
+              const double theta = vtkMath::RadiansFromDegrees(angle);
+              for (int k = 0; k < perCone; ++k, ++r)
+              {
+                const double phi = 2.0 * vtkMath::Pi() * k / perCone;
+                const glm::dvec3 d = std::cos(theta) * normal +
+                  std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * w);
+                in.Directions[r] = glm::fvec3(d);
+                in.Colors[r] = glm::fvec4(caster.Cast(glm::dvec3(p[0], p[1], p[2]), d));
+              }
+            }
+          }
+        });
+    };
+    switch (scalars->GetDataType())
+    {
+      vtkTemplateMacro(previsualize(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+      default:
+        vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
+        return 1;
+    }
+    in.Key = key;
+    in.HaveRays = true;
+    this->NumberOfRaysCast = n * raysPerVertex;
+  }
+
+  // Vertex colour assignment for the camera.
+  double eye[3], projection[3];
+  this->Camera->GetPosition(eye);
+  this->Camera->GetDirectionOfProjection(projection);
+  const bool parallel = this->Camera->GetParallelProjection() != 0;
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("VoSColors");
+  colors->SetNumberOfComponents(4);
+  colors->SetNumberOfTuples(n);
+  vtkNew<vtkIntArray> chosen;
+  chosen->SetName("VoSRay");
+  chosen->SetNumberOfTuples(n);
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType v = begin; v < end; ++v)
+      {
+        double p[3];
+        withNormals->GetPoint(v, p);
+        glm::dvec3 line = parallel ? -glm::dvec3(projection[0], projection[1], projection[2])
+                                   : glm::dvec3(eye[0] - p[0], eye[1] - p[1], eye[2] - p[2]);
+        line = glm::normalize(line);
+        int best = -1;
+        double bestDot = 0.0;
+        const std::size_t first = static_cast<std::size_t>(v) * raysPerVertex;
+        for (int r = 0; r < raysPerVertex; ++r)
+        {
+          const double dot = glm::dot(glm::dvec3(in.Directions[first + r]), line);
+          if (dot > bestDot)
+          {
+            bestDot = dot;
+            best = r;
+          }
+        }
+        unsigned char rgba[4] = { 0, 0, 0, 0 };
+        if (best >= 0)
+        {
+          const glm::fvec4 c = in.Colors[first + best];
+          for (int k = 0; k < 4; ++k)
+          {
+            rgba[k] =
+              static_cast<unsigned char>(std::lround(255.0f * std::min(std::max(c[k], 0.0f), 1.0f)));
+          }
+        }
+        colors->SetTypedTuple(v, rgba);
+        chosen->SetValue(v, best);
+      }
+    });
+
+  output->ShallowCopy(withNormals);
+  output->GetPointData()->SetScalars(colors);
+  output->GetPointData()->AddArray(chosen);
+
+  // The technique's memory (the paper's Table III).
+  this->VolumeMemory = static_cast<vtkIdType>(scalars->GetActualMemorySize()) * 1024;
+  this->SurfaceMemory = static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
+                          normals->GetActualMemorySize() +
+                          withNormals->GetPolys()->GetActualMemorySize() +
+                          colors->GetActualMemorySize()) *
+    1024;
+  this->ConesMemory = static_cast<vtkIdType>(in.Directions.size() * sizeof(glm::fvec3) +
+    in.Colors.size() * sizeof(glm::fvec4));
+  return 1;
+}
+
+void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "OpeningAngles:";
+  for (double a : this->Internals->Angles)
+  {
+    os << " " << a;
+  }
+  os << "\n" << indent << "RaysPerCone: " << this->RaysPerCone << "\n";
+  os << indent << "FlipNormals: " << this->FlipNormals << "\n";
+  os << indent << "IntegrationMethod: " << (this->IntegrationMethod == LEVOY ? "Levoy" : "Adaptive")
+     << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";
+  os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
+  os << indent << "Camera: " << this->Camera << "\n";
+  os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";
+}

@@ -1,0 +1,191 @@
+/**
+ * @class   vtkVolumeOnSurfaceFilter
+ * @brief   colours an isosurface with the volume seen through it (VoS^M)
+ *
+ * The Volume on Surface technique (VoS^M) of the paper in
+ * ../shared/papers/volume-on-surface.txt, as a pipeline filter:
+ * - cones construction: around each vertex normal, one cone per opening
+ *   angle (default 20, 45 and 70 degrees) with RaysPerCone rays (default 4)
+ *   equally spaced around it;
+ * - previsualization: every ray is cast from its vertex out of the volume
+ *   and the volume in front of the vertex, as seen looking back along the
+ *   ray, is integrated front to back with the numerical core (Riemann sum,
+ *   the paper's Levoy model, or the adaptive Simpson rule), with early ray
+ *   termination; the RGBA of every ray is kept;
+ * - vertex colour assignment: for the camera (SetCamera), each vertex takes
+ *   the colour of its ray with the largest positive dot product with the
+ *   observation line (vertex to eye; the direction of projection's opposite
+ *   for a parallel camera); vertices without such a ray get transparent black.
+ *
+ * The output is the input surface with two point arrays: "VoSColors"
+ * (unsigned char RGBA: RGB = the integrated colour over black, A = opacity;
+ * the active scalars, so any polydata mapper shows them) and "VoSRay" (the
+ * index of the chosen ray, -1 for none).
+ *
+ * Interaction, as in the paper: the filter's modification time includes the
+ * camera's, so a camera change re-executes it, but only the assignment runs
+ * again (a few dot products per vertex: cheap enough for every frame). The
+ * previsualization is redone only when the surface, the volume, the volume
+ * property or a cone or integration parameter changed.
+ * GetNumberOfRaysCast() tells which happened in the last execution.
+ *
+ * Inputs: port 0 the isosurface (vtkPolyData with point normals; computed
+ * with vtkPolyDataNormals when absent), port 1 the volume (vtkImageData,
+ * single-component point scalars; SetVolumeConnection). Steps are in voxel
+ * units (the smallest spacing), as in vtkAdaptiveVolumeMapper.
+ *
+ * @sa vtkAdaptiveVolumeMapper vtkOpenMeshDecimation
+ */
+#ifndef vtkVolumeOnSurfaceFilter_h
+#define vtkVolumeOnSurfaceFilter_h
+
+#include "avosRenderingVolumeOnSurfaceModule.h" // For export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkCamera;
+class vtkVolumeProperty;
+
+class AVOSRENDERINGVOLUMEONSURFACE_EXPORT vtkVolumeOnSurfaceFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkVolumeOnSurfaceFilter* New();
+  vtkTypeMacro(vtkVolumeOnSurfaceFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The volume, on input port 1.
+   */
+  void SetVolumeConnection(vtkAlgorithmOutput* output);
+
+  ///@{
+  /**
+   * Colour and opacity of the volume (first component's functions).
+   */
+  void SetVolumeProperty(vtkVolumeProperty* property);
+  vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
+  ///@}
+
+  ///@{
+  /**
+   * The camera the colours are assigned for.
+   */
+  void SetCamera(vtkCamera* camera);
+  vtkGetObjectMacro(Camera, vtkCamera);
+  ///@}
+
+  ///@{
+  /**
+   * Cone opening angles in degrees (half-angles to the normal, in (0, 90]).
+   * Default 20, 45, 70.
+   */
+  void AddOpeningAngle(double degrees);
+  void RemoveAllOpeningAngles();
+  int GetNumberOfCones();
+  double GetOpeningAngle(int cone);
+  ///@}
+
+  ///@{
+  /**
+   * Rays per cone. Default 4; 0 is an error at execution.
+   */
+  vtkSetMacro(RaysPerCone, int);
+  vtkGetMacro(RaysPerCone, int);
+  ///@}
+
+  ///@{
+  /**
+   * Cast the cones around the opposite of the normals (for surfaces whose
+   * normals point into the region the viewer looks from). Default off.
+   */
+  vtkSetMacro(FlipNormals, vtkTypeBool);
+  vtkGetMacro(FlipNormals, vtkTypeBool);
+  vtkBooleanMacro(FlipNormals, vtkTypeBool);
+  ///@}
+
+  enum IntegrationMethods
+  {
+    LEVOY = 0, // Riemann sum with step SampleDistance (the paper's model)
+    ADAPTIVE   // adaptive Simpson, coupled, to Tolerance
+  };
+
+  ///@{
+  /**
+   * How each ray is integrated. Default LEVOY.
+   */
+  vtkSetClampMacro(IntegrationMethod, int, LEVOY, ADAPTIVE);
+  vtkGetMacro(IntegrationMethod, int);
+  void SetIntegrationMethodToLevoy() { this->SetIntegrationMethod(LEVOY); }
+  void SetIntegrationMethodToAdaptive() { this->SetIntegrationMethod(ADAPTIVE); }
+  ///@}
+
+  ///@{
+  /**
+   * Riemann step (voxel units, default 0.5) and adaptive tolerance (default
+   * 0.01); both also bound the early ray termination (eps / 5).
+   */
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
+  ///@}
+
+  ///@{
+  /**
+   * What the scalar opacity function means, as in vtkAdaptiveVolumeMapper:
+   * VTK's opacity (default) or the paper's extinction per voxel unit.
+   */
+  vtkSetMacro(ExtinctionOpacity, vtkTypeBool);
+  vtkGetMacro(ExtinctionOpacity, vtkTypeBool);
+  vtkBooleanMacro(ExtinctionOpacity, vtkTypeBool);
+  ///@}
+
+  /**
+   * Rays cast by the last execution: 0 when only the colours were assigned.
+   */
+  vtkGetMacro(NumberOfRaysCast, vtkIdType);
+
+  ///@{
+  /**
+   * Memory of the structures of the technique after an execution, in bytes
+   * (the paper's Table III): the volume's scalars, the isosurface (points,
+   * normals, triangles, colours) and the cones (a direction and an RGBA per
+   * ray).
+   */
+  vtkGetMacro(VolumeMemory, vtkIdType);
+  vtkGetMacro(SurfaceMemory, vtkIdType);
+  vtkGetMacro(ConesMemory, vtkIdType);
+  ///@}
+
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkVolumeOnSurfaceFilter();
+  ~vtkVolumeOnSurfaceFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkVolumeProperty* VolumeProperty = nullptr;
+  vtkCamera* Camera = nullptr;
+  int RaysPerCone = 4;
+  vtkTypeBool FlipNormals = 0;
+  int IntegrationMethod = LEVOY;
+  double SampleDistance = 0.5;
+  double Tolerance = 0.01;
+  vtkTypeBool ExtinctionOpacity = 0;
+  vtkIdType NumberOfRaysCast = 0;
+  vtkIdType VolumeMemory = 0;
+  vtkIdType SurfaceMemory = 0;
+  vtkIdType ConesMemory = 0;
+
+private:
+  vtkVolumeOnSurfaceFilter(const vtkVolumeOnSurfaceFilter&) = delete;
+  void operator=(const vtkVolumeOnSurfaceFilter&) = delete;
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
