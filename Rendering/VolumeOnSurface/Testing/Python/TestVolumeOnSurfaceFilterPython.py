@@ -1,0 +1,56 @@
+"""vtkVolumeOnSurfaceFilter in a wrapped pipeline: source -> vtkFlyingEdges3D ->
+vtkOpenMeshDecimation -> VoS^M. Every vertex gets a colour array entry, a
+camera change only reassigns, and the memory report adds up."""
+
+import avos
+from vtkmodules.test import Testing
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D
+from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
+
+
+class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
+    def test_pipeline(self):
+        volume = avos.vtkAnalyticVolumeSource()
+        volume.SetFunctionToSphereDistance()
+        volume.SetDimensions(32, 32, 32)
+        contour = vtkFlyingEdges3D()
+        contour.SetInputConnection(volume.GetOutputPort())
+        contour.SetValue(0, 0.5)
+        contour.ComputeNormalsOn()
+        decimate = avos.vtkOpenMeshDecimation()
+        decimate.SetInputConnection(contour.GetOutputPort())
+        decimate.SetTargetReduction(0.5)
+        color = vtkColorTransferFunction()
+        color.AddRGBPoint(0.0, 1.0, 0.5, 0.2)
+        color.AddRGBPoint(2.0, 0.2, 0.5, 1.0)
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(0.0, 0.1)
+        opacity.AddPoint(2.0, 0.1)
+        prop = vtkVolumeProperty()
+        prop.SetColor(color)
+        prop.SetScalarOpacity(opacity)
+        camera = vtkCamera()
+        camera.SetPosition(0, 0, 6)
+        vos = avos.vtkVolumeOnSurfaceFilter()
+        vos.SetInputConnection(decimate.GetOutputPort())
+        vos.SetVolumeConnection(volume.GetOutputPort())
+        vos.SetVolumeProperty(prop)
+        vos.SetCamera(camera)
+        vos.FlipNormalsOn()  # distance grows outwards: the normals point in
+        vos.Update()
+        out = vos.GetOutput()
+        n = out.GetNumberOfPoints()
+        self.assertGreater(n, 100)
+        self.assertEqual(vos.GetNumberOfRaysCast(), 12 * n)
+        self.assertEqual(out.GetPointData().GetScalars().GetName(), "VoSColors")
+        self.assertEqual(vos.GetConesMemory(), 12 * n * 28)
+        visible = sum(1 for v in range(n) if out.GetPointData().GetArray("VoSRay").GetValue(v) >= 0)
+        self.assertGreater(visible, n // 3)
+        camera.Azimuth(30)
+        vos.Update()
+        self.assertEqual(vos.GetNumberOfRaysCast(), 0)
+
+
+if __name__ == "__main__":
+    Testing.main([(TestVolumeOnSurfaceFilterPython, "test")])
