@@ -97,29 +97,8 @@ bool PixelRay(const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dve
   const glm::dvec3 nearGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(nearWorld, 1.0)));
   const glm::dvec3 farGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(farWorld, 1.0)));
   direction = (farGrid - nearGrid) / length;
-  // Clip [0, length] to the box [0, n - 1]^3 (slabs).
   double t0 = 0.0, t1 = length;
-  for (int a = 0; a < 3; ++a)
-  {
-    const double hi = g.Dimensions[a] - 1;
-    if (direction[a] == 0.0)
-    {
-      if (nearGrid[a] < 0.0 || nearGrid[a] > hi)
-      {
-        return false;
-      }
-      continue;
-    }
-    double ta = (0.0 - nearGrid[a]) / direction[a];
-    double tb = (hi - nearGrid[a]) / direction[a];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
-  if (!(t0 < t1))
+  if (!an::ClipToGrid(nearGrid, direction, g.Dimensions, t0, t1))
   {
     return false;
   }

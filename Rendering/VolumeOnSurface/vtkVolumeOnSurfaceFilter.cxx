@@ -82,26 +82,7 @@ struct ConeCaster
     // Grid step per voxel unit of world length.
     const glm::dvec3 step = toGrid(direction * this->Voxel, 0.0);
     double t0 = 0.0, t1 = 1e300;
-    for (int a = 0; a < 3; ++a)
-    {
-      const double hi = this->Dimensions[a] - 1;
-      if (step[a] == 0.0)
-      {
-        if (start[a] < 0.0 || start[a] > hi)
-        {
-          return glm::dvec4(0.0);
-        }
-        continue;
-      }
-      double ta = -start[a] / step[a], tb = (hi - start[a]) / step[a];
-      if (ta > tb)
-      {
-        std::swap(ta, tb);
-      }
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-    }
-    if (!(t0 < t1))
+    if (!an::ClipToGrid(start, step, this->Dimensions, t0, t1))
     {
       return glm::dvec4(0.0);
     }

@@ -9,6 +9,7 @@
 #include "vtkTestErrorObserver.h"
 #include "vtkTestUtilities.h"
 
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -29,6 +30,25 @@ inline void WriteFile(const std::string& path, const std::string& content)
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << content;
 }
+
+// Counts and reports failed checks: `check(ok, "what")`, then
+// `return check.Result();` at the end of the test.
+class Checklist
+{
+public:
+  void operator()(bool ok, const std::string& what)
+  {
+    if (!ok)
+    {
+      std::cerr << "FAIL " << what << "\n";
+      ++this->Failures;
+    }
+  }
+  int Result() const { return this->Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE; }
+
+private:
+  int Failures = 0;
+};
 
 // Observes errors of an object and, for algorithms, of its executive, so that
 // expected errors are checked instead of printed (ctest fails on "ERROR: ").

@@ -30,15 +30,7 @@
 
 namespace
 {
-int Failures = 0;
-void Expect(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAIL " << what << "\n";
-    ++Failures;
-  }
-}
+avostest::Checklist Expect;
 
 // Euler characteristic V - E + F and the number of boundary loops of the
 // triangles (V counts the vertices that triangles use).
@@ -330,5 +322,5 @@ int TestOpenMeshDecimation(int, char*[])
   Expect(errors.Check("NaN point", "not finite"), "NaN point");
   Expect(decimate->GetOutput()->GetNumberOfPolys() == 0, "no output from NaN input");
 
-  return Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return Expect.Result();
 }

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 
 namespace avos
 {
@@ -73,6 +74,35 @@ private:
   int Nx, Ny, Nz;
   std::ptrdiff_t Sy, Sz;
 };
+
+// Clips the ray start + t step, t in [t0, t1], to the grid's box
+// [0, n - 1]^3 (slabs). False when it misses; t0 and t1 narrowed otherwise.
+template <typename Real>
+bool ClipToGrid(const glm::vec<3, Real>& start, const glm::vec<3, Real>& step,
+  const int dimensions[3], Real& t0, Real& t1)
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    const Real hi = Real(dimensions[a] - 1);
+    if (step[a] == Real(0))
+    {
+      if (start[a] < Real(0) || start[a] > hi)
+      {
+        return false;
+      }
+      continue;
+    }
+    Real ta = -start[a] / step[a];
+    Real tb = (hi - start[a]) / step[a];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 < t1;
+}
 
 // The scalar along the ray origin + t direction, t in voxel units: the
 // `field` argument of the evaluators in RayIntegrators.h.

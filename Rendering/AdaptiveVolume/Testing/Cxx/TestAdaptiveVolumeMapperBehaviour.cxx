@@ -145,15 +145,7 @@ double MaxAlpha(vtkFloatArray* a)
   return m;
 }
 
-int Failures = 0;
-void Expect(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAIL " << what << "\n";
-    ++Failures;
-  }
-}
+avostest::Checklist Expect;
 } // namespace
 
 int TestAdaptiveVolumeMapperBehaviour(int, char*[])
@@ -393,5 +385,5 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Mapper->SetBlendModeToComposite();
   scene.Window->Render();
   Expect(errors.None("good again"), "recovers at the end");
-  return Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return Expect.Result();
 }

@@ -25,15 +25,7 @@
 
 namespace
 {
-int Failures = 0;
-void Expect(bool ok, const std::string& what)
-{
-  if (!ok)
-  {
-    std::cerr << "FAIL " << what << "\n";
-    ++Failures;
-  }
-}
+avostest::Checklist Expect;
 } // namespace
 
 int TestVolumeOnSurfaceFilter(int, char*[])
@@ -159,5 +151,5 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   vos->SetInputConnection(square->GetOutputPort());
   vos->Update();
   Expect(errors.None("good input again"), "recovers");
-  return Failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+  return Expect.Result();
 }
