@@ -16,10 +16,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumeProperty.h"
 
-#include "avosTransferFunctionFromProperty.h"
-
-#include "avos/numerics/RayIntegrators.h"
-#include "avos/numerics/Volume.h"
+#include "avosVolumeRay.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,7 +24,6 @@
 
 namespace
 {
-namespace an = avos::numerics;
 
 // Everything the previsualization depends on: when it is unchanged, an
 // execution only assigns colours.
@@ -51,54 +47,6 @@ struct PrevisualizationKey
       this->SampleDistance == o.SampleDistance && this->Tolerance == o.Tolerance &&
       this->Extinction == o.Extinction && this->Surface == o.Surface &&
       this->Volume == o.Volume && this->Property == o.Property;
-  }
-};
-
-// The volume seen from outside along one ray: the segment from the vertex
-// along `direction` to the volume's boundary, integrated from that boundary
-// back to the vertex (front to back for an eye looking along -direction).
-template <typename Storage>
-struct ConeCaster
-{
-  const an::TrilinearVolume<double, Storage> Volume;
-  const int* Dimensions;
-  const double* WorldToGrid; // 4x4, row major
-  double Voxel;
-  const an::TransferFunction<double>& TF;
-  int Method;
-  double SampleDistance;
-  an::AdaptiveSettings<double> Adaptive;
-
-  glm::dvec4 Cast(const glm::dvec3& vertex, const glm::dvec3& direction) const
-  {
-    const double* m = this->WorldToGrid;
-    auto toGrid = [m](const glm::dvec3& p, double w)
-    {
-      return glm::dvec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w,
-        m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
-        m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11] * w);
-    };
-    const glm::dvec3 start = toGrid(vertex, 1.0);
-    // Grid step per voxel unit of world length.
-    const glm::dvec3 step = toGrid(direction * this->Voxel, 0.0);
-    double t0 = 0.0, t1 = 1e300;
-    if (!an::ClipToGrid(start, step, this->Dimensions, t0, t1))
-    {
-      return glm::dvec4(0.0);
-    }
-    const double D = t1 - t0;
-    // From the far end back towards the vertex (or its entry into the box).
-    const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ this->Volume,
-      start + t1 * step, -step };
-    const an::RayResult<double> r = this->Method == vtkVolumeOnSurfaceFilter::ADAPTIVE
-      ? an::IntegrateAdaptive(field, this->TF, D, this->Adaptive)
-      : [&]()
-        {
-          const an::Interval<double> whole{ 0.0, D };
-          return an::IntegrateRiemann(field, this->TF, D, this->SampleDistance,
-            an::RiemannForm::Exponential, &whole, 1, 0.2 * this->Adaptive.Tolerance);
-        }();
-    return r.RGBA;
   }
 };
 
@@ -319,50 +267,21 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   if (!in.HaveRays || !(key == in.Key))
   {
     in.HaveRays = false;
-    const double* spacing = volume->GetSpacing();
-    const double voxel =
-      std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
-    if (!(voxel > 0.0))
-    {
-      vtkErrorMacro(<< "The volume's spacing must be non-zero.");
-      return 1;
-    }
-    an::TransferFunction<double> tf;
-    const std::string error =
-      avos::TransferFunctionFromProperty(this->VolumeProperty, key.Extinction, voxel, tf);
+    avos::VolumeRaySetup setup;
+    const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
+      this->IntegrationMethod == ADAPTIVE, this->SampleDistance, this->Tolerance);
     if (!error.empty())
     {
-      vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
+      vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
       return 1;
     }
-    // World -> grid index (origin, spacing, direction, extent start).
-    double worldToGrid[16];
-    {
-      vtkNew<vtkMatrix4x4> gridToWorld, start, inverse;
-      const int* extent = volume->GetExtent();
-      for (int a = 0; a < 3; ++a)
-      {
-        start->SetElement(a, 3, extent[2 * a]);
-      }
-      vtkMatrix4x4::Multiply4x4(volume->GetIndexToPhysicalMatrix(), start, gridToWorld);
-      vtkMatrix4x4::Invert(gridToWorld, inverse);
-      std::copy(inverse->GetData(), inverse->GetData() + 16, worldToGrid);
-    }
-
     in.RaysPerVertex = raysPerVertex;
     in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
-    an::AdaptiveSettings<double> adaptive;
-    adaptive.Tolerance = this->Tolerance;
-    adaptive.FieldMinimum = scalars->GetRange(0)[0];
-    adaptive.FieldMaximum = scalars->GetRange(0)[1];
     const double sign = this->FlipNormals ? -1.0 : 1.0;
     const int perCone = this->RaysPerCone;
-    auto previsualize = [&](auto* data)
+    auto previsualize = [&](const auto& caster)
     {
-      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      const ConeCaster<Storage> caster{ an::TrilinearVolume<double, Storage>(data, dims), dims,
-        worldToGrid, voxel, tf, this->IntegrationMethod, this->SampleDistance, adaptive };
       vtkSMPTools::For(0, n,
         [&](vtkIdType begin, vtkIdType end)
         {
@@ -396,12 +315,10 @@ int vtkVolumeOnSurfaceFilter::RequestData(
           }
         });
     };
-    switch (scalars->GetDataType())
+    if (!setup.Dispatch(previsualize))
     {
-      vtkTemplateMacro(previsualize(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
-      default:
-        vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
-        return 1;
+      vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
+      return 1;
     }
     in.Key = key;
     in.HaveRays = true;

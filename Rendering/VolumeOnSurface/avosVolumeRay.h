@@ -1,0 +1,156 @@
+// The ray both Volume-on-Surface classes cast: from a surface vertex along a
+// direction out of the volume, integrated with the numerical core from the
+// far end back to the vertex, which is front to back for an eye looking along
+// the opposite direction. Private to the module.
+#ifndef avosVolumeRay_h
+#define avosVolumeRay_h
+
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkType.h"
+
+#include "avosTransferFunctionFromProperty.h"
+
+#include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/Volume.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+namespace avos
+{
+// What every ray of one execution shares: the volume's grid, the transfer
+// function, the integration method.
+struct VolumeRaySetup
+{
+  int Dimensions[3] = { 0, 0, 0 };
+  double WorldToGrid[16];
+  double Voxel = 1.0; // world length of one voxel unit (the smallest spacing)
+  avos::numerics::TransferFunction<double> TF;
+  bool Adaptive = false;
+  double SampleDistance = 0.5;
+  avos::numerics::AdaptiveSettings<double> Settings;
+  vtkDataArray* Scalars = nullptr;
+
+  // Empty, or why the volume or the property cannot be used.
+  std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
+    bool adaptive, double sampleDistance, double tolerance)
+  {
+    this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
+    if (!this->Scalars || this->Scalars->GetNumberOfComponents() != 1)
+    {
+      return "the volume needs single-component point scalars";
+    }
+    volume->GetDimensions(this->Dimensions);
+    if (this->Dimensions[0] < 2 || this->Dimensions[1] < 2 || this->Dimensions[2] < 2)
+    {
+      return "the volume needs at least 2 points along each axis";
+    }
+    if (!(sampleDistance > 0.0) || !(tolerance > 0.0))
+    {
+      return "the sample distance and the tolerance must be positive";
+    }
+    const double* spacing = volume->GetSpacing();
+    this->Voxel = std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
+    if (!(this->Voxel > 0.0) || !std::isfinite(this->Voxel))
+    {
+      return "the volume's spacing must be non-zero and finite";
+    }
+    const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF);
+    if (!error.empty())
+    {
+      return "unusable transfer function: " + error;
+    }
+    vtkNew<vtkMatrix4x4> gridToWorld, start, inverse;
+    const int* extent = volume->GetExtent();
+    for (int a = 0; a < 3; ++a)
+    {
+      start->SetElement(a, 3, extent[2 * a]);
+    }
+    vtkMatrix4x4::Multiply4x4(volume->GetIndexToPhysicalMatrix(), start, gridToWorld);
+    vtkMatrix4x4::Invert(gridToWorld, inverse);
+    std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
+    this->Adaptive = adaptive;
+    this->SampleDistance = sampleDistance;
+    this->Settings.Tolerance = tolerance;
+    this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
+    this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
+    return std::string();
+  }
+
+  // Calls f(caster) with a VolumeRay for the scalars' type; false for an
+  // unsupported type.
+  template <typename F>
+  bool Dispatch(F&& f) const;
+};
+
+template <typename Storage>
+class VolumeRay
+{
+public:
+  VolumeRay(const VolumeRaySetup& setup, const Storage* data)
+    : Setup(setup)
+    , Volume(data, setup.Dimensions)
+  {
+  }
+
+  // RGBA of the volume between the vertex and the volume's boundary along
+  // `direction` (a unit world vector), at most `maximumLength` world units
+  // long (the eye's distance, for an eye inside the volume).
+  glm::dvec4 Cast(const glm::dvec3& vertex, const glm::dvec3& direction,
+    double maximumLength = std::numeric_limits<double>::infinity()) const
+  {
+    const double* m = this->Setup.WorldToGrid;
+    auto toGrid = [m](const glm::dvec3& p, double w)
+    {
+      return glm::dvec3(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3] * w,
+        m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7] * w,
+        m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11] * w);
+    };
+    const glm::dvec3 start = toGrid(vertex, 1.0);
+    const glm::dvec3 step = toGrid(direction * this->Setup.Voxel, 0.0); // per voxel unit
+    double t0 = 0.0, t1 = maximumLength / this->Setup.Voxel;
+    if (!avos::numerics::ClipToGrid(start, step, this->Setup.Dimensions, t0, t1))
+    {
+      return glm::dvec4(0.0);
+    }
+    const double D = t1 - t0;
+    const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>> field{
+      this->Volume, start + t1 * step, -step
+    };
+    if (this->Setup.Adaptive)
+    {
+      return avos::numerics::IntegrateAdaptive(field, this->Setup.TF, D, this->Setup.Settings).RGBA;
+    }
+    const avos::numerics::Interval<double> whole{ 0.0, D };
+    return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
+      avos::numerics::RiemannForm::Exponential, &whole, 1, 0.2 * this->Setup.Settings.Tolerance)
+      .RGBA;
+  }
+
+private:
+  const VolumeRaySetup& Setup;
+  const avos::numerics::TrilinearVolume<double, Storage> Volume;
+};
+
+template <typename F>
+bool VolumeRaySetup::Dispatch(F&& f) const
+{
+  switch (this->Scalars->GetDataType())
+  {
+    vtkTemplateMacro(f(VolumeRay<VTK_TT>(*this, static_cast<const VTK_TT*>(
+                         this->Scalars->GetVoidPointer(0)))));
+    default:
+      return false;
+  }
+  return true;
+}
+}
+
+#endif
