@@ -1,0 +1,150 @@
+// vtkVolumeOnSurfaceMapper (VoS^M*) against a closed form: a constant volume
+// on [-1, 1]^3 and a horizontal grid at z = 0 seen from above by a parallel
+// camera; every vertex's ray runs straight up to the top face, 1 world unit,
+// so its RGBA is c (1 - e^{-tau L}), 1 - e^{-tau L}. Then: an unchanged frame
+// casts nothing, back-facing and off-screen vertices cost nothing, a coarser
+// level of detail reuses the colours already computed for the same view, and
+// bad input is reported.
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPlaneSource.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTriangleFilter.h"
+#include "vtkVolumeOnSurfaceMapper.h"
+#include "vtkVolumeProperty.h"
+
+#include "avosTestHelpers.h"
+
+#include <cmath>
+
+int TestVolumeOnSurfaceMapper(int, char*[])
+{
+  avostest::Checklist Expect;
+  const double color[3] = { 0.9, 0.5, 0.1 }, tau = 0.04, voxel = 1.0 / 16.0;
+  vtkNew<vtkImageData> volume;
+  volume->SetDimensions(33, 33, 33);
+  volume->SetOrigin(-1, -1, -1);
+  volume->SetSpacing(voxel, voxel, voxel);
+  volume->AllocateScalars(VTK_SHORT, 1);
+  volume->GetPointData()->GetScalars()->Fill(300);
+  vtkNew<vtkColorTransferFunction> ctf;
+  ctf->AddRGBPoint(0, color[0], color[1], color[2]);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0, tau);
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(ctf);
+  property->SetScalarOpacity(opacity);
+
+  vtkNew<vtkPlaneSource> grid;
+  grid->SetOrigin(-0.9, -0.9, 0);
+  grid->SetPoint1(0.9, -0.9, 0);
+  grid->SetPoint2(-0.9, 0.9, 0);
+  grid->SetResolution(30, 30);
+  vtkNew<vtkTriangleFilter> triangles;
+  triangles->SetInputConnection(grid->GetOutputPort());
+
+  vtkNew<vtkVolumeOnSurfaceMapper> mapper;
+  mapper->SetInputConnection(triangles->GetOutputPort());
+  mapper->SetVolumeData(volume);
+  mapper->SetVolumeProperty(property);
+  mapper->ExtinctionOpacityOn();
+  mapper->SetLevelOfDetail(0);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(64, 64);
+  window->AddRenderer(renderer);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  camera->SetPosition(0, 0, 5);
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetParallelScale(1.2);
+  renderer->ResetCameraClippingRange();
+
+  const vtkIdType n = 31 * 31;
+  const double alpha = 1.0 - std::exp(-tau / voxel);
+  for (int adaptive : { 0, 1 })
+  {
+    mapper->SetAdaptive(adaptive);
+    window->Render();
+    Expect(mapper->GetNumberOfVisibleVertices() == n && mapper->GetNumberOfRaysCast() == n,
+      "every vertex visible, one ray each");
+    vtkDataArray* colors = mapper->GetColoredSurface()->GetPointData()->GetScalars();
+    double worst = 0.0;
+    for (vtkIdType v = 0; v < n; ++v)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        const double exact = 255.0 * (c < 3 ? color[c] * alpha : alpha);
+        worst = std::max(worst, std::abs(colors->GetComponent(v, c) - exact));
+      }
+    }
+    Expect(worst <= 0.5 + 1e-6, "colours = closed form (rounded to 8 bits)");
+  }
+  window->Render();
+  Expect(mapper->GetNumberOfRaysCast() == 0, "an unchanged frame casts nothing");
+
+  // A coarser level for the same view: colours come from the full level.
+  mapper->SetLevelOfDetail(2); // 90 % decimated
+  window->Render();
+  Expect(mapper->GetLastLevelOfDetail() == 2, "level 2 drawn");
+  Expect(mapper->GetColoredSurface()->GetNumberOfPolys() < 200, "level 2 is decimated");
+  Expect(mapper->GetNumberOfRaysCast() == 0 &&
+      mapper->GetNumberOfReusedColors() == mapper->GetNumberOfVisibleVertices(),
+    "a coarser level reuses the colours");
+  mapper->SetLevelOfDetail(0);
+
+  // Zoomed in: off-screen vertices cost nothing.
+  camera->SetParallelScale(0.4);
+  window->Render();
+  Expect(mapper->GetNumberOfVisibleVertices() > 0 && mapper->GetNumberOfVisibleVertices() < n / 4,
+    "off-screen vertices are skipped");
+  camera->SetParallelScale(1.2);
+
+  // From below, every vertex faces away.
+  camera->SetPosition(0, 0, -5);
+  renderer->ResetCameraClippingRange();
+  window->Render();
+  Expect(mapper->GetNumberOfVisibleVertices() == 0 && mapper->GetNumberOfRaysCast() == 0,
+    "back-facing vertices cost nothing");
+
+  // Automatic level: a high desired update rate with a known cost per ray
+  // picks a coarser level.
+  camera->SetPosition(0, 0, 5);
+  renderer->ResetCameraClippingRange();
+  mapper->SetLevelOfDetail(-1);
+  window->SetDesiredUpdateRate(1e6);
+  window->Render();
+  Expect(mapper->GetLastLevelOfDetail() == 2, "interaction: the coarsest level");
+  window->SetDesiredUpdateRate(0.0001);
+  window->Render();
+  Expect(mapper->GetLastLevelOfDetail() == 0, "still: the full surface");
+
+  // Bad input.
+  avostest::ExpectedErrors errors(mapper);
+  vtkNew<vtkImageData> pairs;
+  pairs->SetDimensions(4, 4, 4);
+  pairs->AllocateScalars(VTK_FLOAT, 2);
+  mapper->SetVolumeData(pairs);
+  camera->Azimuth(1);
+  window->Render();
+  Expect(errors.Check("two components", "single-component"), "multi-component volume");
+  mapper->SetVolumeData(volume);
+  vtkNew<vtkPolyData> empty;
+  mapper->SetInputData(empty);
+  window->Render(); // the renderer skips an actor without bounds: ask directly
+  mapper->Render(renderer, actor);
+  Expect(errors.Check("empty surface", "empty"), "empty surface");
+  return Expect.Result();
+}

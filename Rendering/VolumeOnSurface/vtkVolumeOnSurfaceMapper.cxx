@@ -1,0 +1,379 @@
+#include "vtkVolumeOnSurfaceMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenMeshDecimation.h"
+#include "vtkPolyData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimerLog.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolumeProperty.h"
+
+#include "avosVolumeRay.h"
+
+#include <array>
+#include <atomic>
+#include <vector>
+
+namespace
+{
+// A level of detail: the surface drawn, and for each of its vertices the id
+// of the same vertex on the full surface.
+struct Level
+{
+  double Reduction = 0.0;
+  vtkSmartPointer<vtkPolyData> Surface;
+  std::vector<vtkIdType> FullIds;
+};
+
+// What a vertex's colour depends on besides the vertex itself.
+struct ViewKey
+{
+  std::array<double, 16> Projection{};
+  std::array<double, 3> Eye{};
+  bool Parallel = false;
+  vtkMTimeType Surface = 0, Volume = 0, Property = 0;
+  std::array<double, 4> Integration{}; // adaptive, step, tolerance, extinction
+
+  bool operator==(const ViewKey& o) const
+  {
+    return this->Projection == o.Projection && this->Eye == o.Eye &&
+      this->Parallel == o.Parallel && this->Surface == o.Surface && this->Volume == o.Volume &&
+      this->Property == o.Property && this->Integration == o.Integration;
+  }
+};
+} // namespace
+
+class vtkVolumeOnSurfaceMapper::vtkInternals
+{
+public:
+  std::vector<double> Reductions{ 0.0, 0.5, 0.9 };
+  std::vector<Level> Levels;
+  vtkPolyData* LevelsSource = nullptr;
+  vtkMTimeType LevelsTime = 0;
+
+  // Colours on the full surface's vertex ids for the view `Key`: computed
+  // ones are reused by every level.
+  ViewKey Key;
+  bool HaveKey = false;
+  std::vector<std::array<unsigned char, 4>> FullColors;
+  std::vector<unsigned char> Known;
+  int DrawnLevel = -1;
+  double SecondsPerRay = 0.0;
+
+  vtkNew<vtkPolyData> Drawn;
+  vtkSmartPointer<vtkPolyDataMapper> Delegate;
+};
+
+vtkStandardNewMacro(vtkVolumeOnSurfaceMapper);
+vtkCxxSetObjectMacro(vtkVolumeOnSurfaceMapper, VolumeProperty, vtkVolumeProperty);
+
+vtkVolumeOnSurfaceMapper::vtkVolumeOnSurfaceMapper()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(2);
+  // The OpenGL implementation, through VTK's object factory.
+  this->Internals->Delegate = vtkSmartPointer<vtkPolyDataMapper>::New();
+  this->Internals->Delegate->SetColorModeToDirectScalars();
+  this->Internals->Delegate->SetScalarModeToUsePointData();
+}
+
+vtkVolumeOnSurfaceMapper::~vtkVolumeOnSurfaceMapper()
+{
+  this->SetVolumeProperty(nullptr);
+}
+
+void vtkVolumeOnSurfaceMapper::SetVolumeConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+void vtkVolumeOnSurfaceMapper::SetVolumeData(vtkImageData* volume)
+{
+  this->SetInputDataInternal(1, volume);
+}
+
+void vtkVolumeOnSurfaceMapper::AddLevelOfDetailReduction(double reduction)
+{
+  this->Internals->Reductions.push_back(reduction);
+  this->Internals->Levels.clear();
+  this->Modified();
+}
+
+void vtkVolumeOnSurfaceMapper::RemoveAllLevelOfDetailReductions()
+{
+  this->Internals->Reductions.clear();
+  this->Internals->Levels.clear();
+  this->Modified();
+}
+
+int vtkVolumeOnSurfaceMapper::GetNumberOfLevelsOfDetail()
+{
+  return static_cast<int>(this->Internals->Reductions.size());
+}
+
+vtkPolyData* vtkVolumeOnSurfaceMapper::GetColoredSurface()
+{
+  return this->Internals->Drawn;
+}
+
+int vtkVolumeOnSurfaceMapper::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), port == 0 ? "vtkPolyData" : "vtkImageData");
+  return 1;
+}
+
+void vtkVolumeOnSurfaceMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  this->Internals->Delegate->ReleaseGraphicsResources(win);
+}
+
+void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
+{
+  vtkInternals& in = *this->Internals;
+  this->NumberOfRaysCast = 0;
+  this->NumberOfReusedColors = 0;
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+
+  // Inputs.
+  if (this->GetNumberOfInputConnections(1) < 1)
+  {
+    vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
+    return;
+  }
+  this->GetInputAlgorithm(0, 0)->Update();
+  this->GetInputAlgorithm(1, 0)->Update();
+  vtkPolyData* surface = this->GetInput();
+  vtkImageData* volume = vtkImageData::SafeDownCast(this->GetInputDataObject(1, 0));
+  if (!surface || surface->GetNumberOfPoints() == 0)
+  {
+    vtkErrorMacro(<< "The surface (input 0) is empty.");
+    return;
+  }
+  if (!surface->GetPointData()->GetNormals())
+  {
+    vtkErrorMacro(<< "The surface needs point normals (vtkFlyingEdges3D::ComputeNormalsOn, or "
+                     "vtkPolyDataNormals).");
+    return;
+  }
+  if (!this->VolumeProperty || in.Reductions.empty())
+  {
+    vtkErrorMacro(<< "No volume property, or no level of detail.");
+    return;
+  }
+  for (double r : in.Reductions)
+  {
+    if (!(r >= 0.0 && r < 1.0))
+    {
+      vtkErrorMacro(<< "Level-of-detail reductions must be in [0, 1), not " << r << ".");
+      return;
+    }
+  }
+
+  // Levels of detail, once per surface.
+  if (in.Levels.empty() || in.LevelsSource != surface || in.LevelsTime != surface->GetMTime())
+  {
+    in.Levels.clear();
+    for (double r : in.Reductions)
+    {
+      Level level;
+      level.Reduction = r;
+      if (r == 0.0)
+      {
+        level.Surface = surface;
+        level.FullIds.resize(static_cast<std::size_t>(surface->GetNumberOfPoints()));
+        for (std::size_t i = 0; i < level.FullIds.size(); ++i)
+        {
+          level.FullIds[i] = static_cast<vtkIdType>(i);
+        }
+      }
+      else
+      {
+        vtkNew<vtkOpenMeshDecimation> decimate;
+        decimate->SetInputData(surface);
+        decimate->SetTargetReduction(r);
+        decimate->Update();
+        level.Surface = decimate->GetOutput();
+        auto* ids = vtkIdTypeArray::SafeDownCast(
+          level.Surface->GetPointData()->GetArray("vtkOriginalPointIds"));
+        if (!ids)
+        {
+          vtkErrorMacro(<< "Decimating the surface to level " << r << " failed.");
+          in.Levels.clear();
+          return;
+        }
+        level.FullIds.assign(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfTuples());
+      }
+      in.Levels.push_back(level);
+    }
+    in.LevelsSource = surface;
+    in.LevelsTime = surface->GetMTime();
+    in.HaveKey = false;
+  }
+
+  // The level: forced, or the finest whose estimated colouring time fits
+  // the frame time the window asks for.
+  int levelIndex = std::min(this->LevelOfDetail, static_cast<int>(in.Levels.size()) - 1);
+  if (this->LevelOfDetail < 0)
+  {
+    const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
+    const double budget = rate > 0.0 ? 1.0 / rate : VTK_DOUBLE_MAX;
+    levelIndex = static_cast<int>(in.Levels.size()) - 1;
+    for (int l = 0; l < static_cast<int>(in.Levels.size()); ++l)
+    {
+      if (in.SecondsPerRay * in.Levels[l].Surface->GetNumberOfPoints() <= budget)
+      {
+        levelIndex = l;
+        break;
+      }
+    }
+  }
+  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+
+  // The view.
+  vtkCamera* camera = ren->GetActiveCamera();
+  vtkMatrix4x4* projection =
+    camera->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+  ViewKey key;
+  std::copy(projection->GetData(), projection->GetData() + 16, key.Projection.begin());
+  camera->GetPosition(key.Eye.data());
+  key.Parallel = camera->GetParallelProjection() != 0;
+  key.Surface = surface->GetMTime();
+  key.Volume = volume->GetMTime();
+  key.Property = this->VolumeProperty->GetMTime();
+  key.Integration = { double(this->Adaptive), this->SampleDistance, this->Tolerance,
+    double(this->ExtinctionOpacity) };
+  if (!in.HaveKey || !(key == in.Key))
+  {
+    in.FullColors.assign(static_cast<std::size_t>(surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
+    in.Known.assign(in.FullColors.size(), 0);
+    in.Key = key;
+    in.HaveKey = true;
+    in.DrawnLevel = -1;
+  }
+
+  if (levelIndex != in.DrawnLevel)
+  {
+    avos::VolumeRaySetup setup;
+    const std::string error = setup.Prepare(volume, this->VolumeProperty,
+      this->ExtinctionOpacity != 0, this->Adaptive != 0, this->SampleDistance, this->Tolerance);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
+      in.HaveKey = false;
+      return;
+    }
+    double direction[3];
+    camera->GetDirectionOfProjection(direction);
+    const glm::dvec3 eye(key.Eye[0], key.Eye[1], key.Eye[2]);
+    const glm::dvec3 towardsEye = -glm::dvec3(direction[0], direction[1], direction[2]);
+    vtkPolyData* s = level.Surface;
+    vtkDataArray* normals = s->GetPointData()->GetNormals();
+    const double* m = projection->GetData();
+    std::atomic<vtkIdType> rays(0), visible(0), reused(0);
+    auto colour = [&](const auto& caster)
+    {
+      vtkSMPTools::For(0, s->GetNumberOfPoints(),
+        [&](vtkIdType begin, vtkIdType end)
+        {
+          vtkIdType localRays = 0, localVisible = 0, localReused = 0;
+          for (vtkIdType v = begin; v < end; ++v)
+          {
+            const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
+            double p[3], n[3];
+            s->GetPoint(v, p);
+            normals->GetTuple(v, n);
+            const glm::dvec3 point(p[0], p[1], p[2]);
+            const glm::dvec3 line = key.Parallel ? towardsEye : glm::normalize(eye - point);
+            // Front-facing and inside the frustum (clip coordinates).
+            const double cx = m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3];
+            const double cy = m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7];
+            const double cz = m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11];
+            const double cw = m[12] * p[0] + m[13] * p[1] + m[14] * p[2] + m[15];
+            if (glm::dot(glm::dvec3(n[0], n[1], n[2]), line) <= 0.0 || !(cw > 0.0) ||
+              std::abs(cx) > cw || std::abs(cy) > cw || std::abs(cz) > cw)
+            {
+              continue;
+            }
+            ++localVisible;
+            if (in.Known[full])
+            {
+              ++localReused;
+              continue;
+            }
+            const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(eye - point);
+            const glm::dvec4 c = caster.Cast(point, line, reach);
+            for (int k = 0; k < 4; ++k)
+            {
+              in.FullColors[full][k] = static_cast<unsigned char>(
+                std::lround(255.0 * std::min(std::max(c[k], 0.0), 1.0)));
+            }
+            in.Known[full] = 1;
+            ++localRays;
+          }
+          rays += localRays;
+          visible += localVisible;
+          reused += localReused;
+        });
+    };
+    if (!setup.Dispatch(colour))
+    {
+      vtkErrorMacro(<< "Unsupported scalar type.");
+      return;
+    }
+    this->NumberOfRaysCast = rays;
+    this->NumberOfVisibleVertices = visible;
+    this->NumberOfReusedColors = reused;
+
+    vtkNew<vtkUnsignedCharArray> colors;
+    colors->SetName("VoSColors");
+    colors->SetNumberOfComponents(4);
+    colors->SetNumberOfTuples(s->GetNumberOfPoints());
+    for (vtkIdType v = 0; v < s->GetNumberOfPoints(); ++v)
+    {
+      colors->SetTypedTuple(v, in.FullColors[static_cast<std::size_t>(level.FullIds[v])].data());
+    }
+    in.Drawn->ShallowCopy(s);
+    in.Drawn->GetPointData()->SetScalars(colors);
+    in.Delegate->SetInputData(in.Drawn);
+    in.DrawnLevel = levelIndex;
+  }
+  this->LastLevelOfDetail = levelIndex;
+  timer->StopTimer();
+  this->ColoringTime = timer->GetElapsedTime();
+  if (this->NumberOfRaysCast > 0)
+  {
+    in.SecondsPerRay = this->ColoringTime / static_cast<double>(this->NumberOfRaysCast);
+  }
+
+  in.Delegate->SetClippingPlanes(this->ClippingPlanes);
+  in.Delegate->Render(ren, act);
+}
+
+void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
+  os << indent << "Adaptive: " << this->Adaptive << "\n";
+  os << indent << "SampleDistance: " << this->SampleDistance << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";
+  os << indent << "LevelOfDetailReductions:";
+  for (double r : this->Internals->Reductions)
+  {
+    os << " " << r;
+  }
+  os << "\n" << indent << "LevelOfDetail: " << this->LevelOfDetail << "\n";
+  os << indent << "LastLevelOfDetail: " << this->LastLevelOfDetail << "\n";
+  os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";
+  os << indent << "NumberOfVisibleVertices: " << this->NumberOfVisibleVertices << "\n";
+  os << indent << "NumberOfReusedColors: " << this->NumberOfReusedColors << "\n";
+  os << indent << "ColoringTime: " << this->ColoringTime << "\n";
+}

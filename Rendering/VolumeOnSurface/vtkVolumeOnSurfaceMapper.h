@@ -1,0 +1,149 @@
+/**
+ * @class   vtkVolumeOnSurfaceMapper
+ * @brief   draws an isosurface coloured by the volume in front of it (VoS^M*)
+ *
+ * The VoS^M* technique of ../shared/papers/volume-on-surface.txt as a
+ * polydata mapper: at each render, one ray per visible vertex along its line
+ * of sight, from the vertex towards the eye through the volume (input port 1),
+ * integrated front to back with the numerical core (Riemann sum, the paper's
+ * model, or adaptive Simpson); the vertex takes the ray's colour and the lit
+ * surface is drawn by an OpenGL polydata mapper. Visible means front-facing
+ * (with respect to the point normals, which the surface must have) and inside
+ * the view frustum; other vertices cost nothing and stay transparent black.
+ * Vertices are processed with vtkSMPTools.
+ *
+ * Levels of detail: the surface is decimated with vtkOpenMeshDecimation to
+ * each of LevelOfDetailReductions (default 0, 0.5, 0.9; built once per
+ * surface). With LevelOfDetail -1 (the default) the mapper picks, from the
+ * render window's desired update rate and the time per ray of its last
+ * render, the finest level that fits (coarse while interacting, full when
+ * still); a level can also be forced. Decimated vertices are a subset of the
+ * full surface's (their original ids), so colours already computed for the
+ * same view are reused across levels instead of cast again.
+ *
+ * Nothing is cast when neither the camera, the viewport, the surface, the
+ * volume, the transfer function nor a parameter changed.
+ *
+ * @sa vtkVolumeOnSurfaceFilter vtkOpenMeshDecimation vtkAdaptiveVolumeMapper
+ */
+#ifndef vtkVolumeOnSurfaceMapper_h
+#define vtkVolumeOnSurfaceMapper_h
+
+#include "avosRenderingVolumeOnSurfaceModule.h" // For export macro
+#include "vtkPolyDataMapper.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkImageData;
+class vtkPolyData;
+class vtkVolumeProperty;
+
+class AVOSRENDERINGVOLUMEONSURFACE_EXPORT vtkVolumeOnSurfaceMapper : public vtkPolyDataMapper
+{
+public:
+  static vtkVolumeOnSurfaceMapper* New();
+  vtkTypeMacro(vtkVolumeOnSurfaceMapper, vtkPolyDataMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The volume, on input port 1.
+   */
+  void SetVolumeConnection(vtkAlgorithmOutput* output);
+  void SetVolumeData(vtkImageData* volume);
+  ///@}
+
+  ///@{
+  /**
+   * Colour and opacity of the volume (first component's functions).
+   */
+  void SetVolumeProperty(vtkVolumeProperty* property);
+  vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
+  ///@}
+
+  ///@{
+  /**
+   * Integration along each ray, as in vtkVolumeOnSurfaceFilter: Riemann
+   * (default) with SampleDistance (voxel units, default 0.5) or adaptive with
+   * Tolerance (default 0.01); the opacity model (VTK's by default).
+   */
+  vtkSetMacro(Adaptive, vtkTypeBool);
+  vtkGetMacro(Adaptive, vtkTypeBool);
+  vtkBooleanMacro(Adaptive, vtkTypeBool);
+  vtkSetMacro(SampleDistance, double);
+  vtkGetMacro(SampleDistance, double);
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
+  vtkSetMacro(ExtinctionOpacity, vtkTypeBool);
+  vtkGetMacro(ExtinctionOpacity, vtkTypeBool);
+  vtkBooleanMacro(ExtinctionOpacity, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Decimation of each level of detail (fractions of triangles removed,
+   * finest first). Default 0, 0.5, 0.9.
+   */
+  void AddLevelOfDetailReduction(double reduction);
+  void RemoveAllLevelOfDetailReductions();
+  int GetNumberOfLevelsOfDetail();
+  ///@}
+
+  ///@{
+  /**
+   * The level drawn: -1 (default) picks it from the desired update rate.
+   * GetLastLevelOfDetail() tells which was drawn last.
+   */
+  vtkSetMacro(LevelOfDetail, int);
+  vtkGetMacro(LevelOfDetail, int);
+  vtkGetMacro(LastLevelOfDetail, int);
+  ///@}
+
+  ///@{
+  /**
+   * The last render: rays cast (0 when nothing changed), visible vertices,
+   * colours reused from another level, seconds spent colouring.
+   */
+  vtkGetMacro(NumberOfRaysCast, vtkIdType);
+  vtkGetMacro(NumberOfVisibleVertices, vtkIdType);
+  vtkGetMacro(NumberOfReusedColors, vtkIdType);
+  vtkGetMacro(ColoringTime, double);
+  ///@}
+
+  /**
+   * The surface drawn by the last render (the chosen level of detail) with
+   * its "VoSColors" (unsigned char RGBA) and, for decimated levels,
+   * "vtkOriginalPointIds".
+   */
+  vtkPolyData* GetColoredSurface();
+
+  void Render(vtkRenderer* ren, vtkActor* act) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkVolumeOnSurfaceMapper();
+  ~vtkVolumeOnSurfaceMapper() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  vtkVolumeProperty* VolumeProperty = nullptr;
+  vtkTypeBool Adaptive = 0;
+  double SampleDistance = 0.5;
+  double Tolerance = 0.01;
+  vtkTypeBool ExtinctionOpacity = 0;
+  int LevelOfDetail = -1;
+  int LastLevelOfDetail = -1;
+  vtkIdType NumberOfRaysCast = 0;
+  vtkIdType NumberOfVisibleVertices = 0;
+  vtkIdType NumberOfReusedColors = 0;
+  double ColoringTime = 0.0;
+
+private:
+  vtkVolumeOnSurfaceMapper(const vtkVolumeOnSurfaceMapper&) = delete;
+  void operator=(const vtkVolumeOnSurfaceMapper&) = delete;
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
