@@ -1,4 +1,4 @@
-// Image regression: the Marschner-Lobb isosurface at 0.5 coloured by VoS^M
+// Image regression: the Marschner-Lobb isosurface at 0.5 coloured by VoS^M (left) and VoS^M* (right)
 // with the volume seen through it (a translucent ramp of the same signal).
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkColorTransferFunction.h"
@@ -26,7 +26,7 @@ int TestVolumeOnSurfaceAnalytic(int argc, char* argv[])
   property->SetScalarOpacityUnitDistance(0.05); // one voxel
 
   vtkNew<vtkRenderWindow> window;
-  window->SetSize(200, 200);
+  window->SetSize(300, 150);
   window->SetMultiSamples(0);
   vosscene::Build(window, volume, 0.5, property, 20.0, 30.0);
   return avostest::CompareWithBaseline(argc, argv, window);

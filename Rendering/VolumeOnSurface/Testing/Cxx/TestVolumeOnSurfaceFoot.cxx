@@ -1,5 +1,5 @@
 // Image regression: Foot (../shared/data, every 4th voxel: 64^3) with its
-// transfer function, the bone isosurface coloured by VoS^M. Skipped (exit
+// transfer function, the bone isosurface coloured by VoS^M (left) and VoS^M* (right). Skipped (exit
 // code 125) without the shared data.
 #include "vtkExtractVOI.h"
 #include "vtkTestUtilities.h"
@@ -41,7 +41,7 @@ int TestVolumeOnSurfaceFoot(int argc, char* argv[])
   }
 
   vtkNew<vtkRenderWindow> window;
-  window->SetSize(200, 200);
+  window->SetSize(300, 150);
   window->SetMultiSamples(0);
   vosscene::Build(window, coarse, 80.0, property, 30.0, -20.0);
   return avostest::CompareWithBaseline(argc, argv, window);
