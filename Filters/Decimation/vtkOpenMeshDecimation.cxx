@@ -264,9 +264,11 @@ public:
 private:
   using CollapseInfo = OpenMesh::Decimater::CollapseInfoT<Mesh>;
 
+  // 16 bytes: the queue is the decimater's main memory traffic. A float
+  // error orders collapses as the double would, up to ties within 1e-7.
   struct Candidate
   {
-    double Error;
+    float Error;
     int Halfedge;
     unsigned Stamp0;
     unsigned Stamp1;
@@ -280,7 +282,8 @@ private:
     const Mesh::VertexHandle v1 = this->M.to_vertex_handle(h);
     OpenMesh::Geometry::Quadricd q = this->Quadrics[v0.idx()];
     q += this->Quadrics[v1.idx()];
-    return { q(this->M.point(v1)), h.idx(), this->Stamps[v0.idx()], this->Stamps[v1.idx()] };
+    return { static_cast<float>(q(this->M.point(v1))), h.idx(), this->Stamps[v0.idx()],
+      this->Stamps[v1.idx()] };
   }
 
   void Push(Mesh::HalfedgeHandle h)
