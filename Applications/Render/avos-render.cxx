@@ -229,7 +229,8 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
     error = "cannot read '" + path + "': no such file or folder";
     return nullptr;
   }
-  const std::string ext = vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(path));
+  const std::string ext =
+    vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(path));
   if (ext == ".vti")
   {
     auto reader = vtkSmartPointer<vtkXMLImageDataReader>::New();
@@ -254,7 +255,8 @@ vtkSmartPointer<vtkAlgorithm> MakeReader(const std::string& path, std::string& e
     reader->SetFileName(path.c_str());
     return reader;
   }
-  error = "unknown volume format '" + ext + "' (.vti, .mhd, .mha, .nrrd, .nhdr, .raw, DICOM folder)";
+  error =
+    "unknown volume format '" + ext + "' (.vti, .mhd, .mha, .nrrd, .nhdr, .raw, DICOM folder)";
   return nullptr;
 }
 
@@ -289,7 +291,8 @@ double Median(std::vector<double> v)
 // the black background, 8 bits.
 bool WriteImage(const std::string& path, int width, int height, const std::vector<float>& rgba)
 {
-  const std::string ext = vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(path));
+  const std::string ext =
+    vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(path));
   const bool exr = ext == ".exr";
   if (!exr && ext != ".png")
   {
@@ -585,7 +588,8 @@ int main(int argc, char* argv[])
   std::vector<float> rgba(4 * static_cast<std::size_t>(o.Width) * o.Height, 0.0f);
   if (adaptive)
   {
-    auto* pixels = vtkFloatArray::SafeDownCast(adaptive->GetRenderedImage()->GetPointData()->GetScalars());
+    auto* pixels =
+      vtkFloatArray::SafeDownCast(adaptive->GetRenderedImage()->GetPointData()->GetScalars());
     std::copy(pixels->GetPointer(0), pixels->GetPointer(0) + rgba.size(), rgba.begin());
   }
   else if (auto* fixedPoint = vtkFixedPointVolumeRayCastMapper::SafeDownCast(mapper))
@@ -623,7 +627,8 @@ int main(int argc, char* argv[])
     vtkDataArray* pixels = grab->GetOutput()->GetPointData()->GetScalars();
     for (std::size_t i = 0; i < rgba.size(); ++i)
     {
-      rgba[i] = static_cast<float>(pixels->GetComponent(static_cast<vtkIdType>(i / 4), i % 4) / 255.0);
+      rgba[i] =
+        static_cast<float>(pixels->GetComponent(static_cast<vtkIdType>(i / 4), i % 4) / 255.0);
     }
   }
   if (!o.Output.empty() && !WriteImage(o.Output, o.Width, o.Height, rgba))
@@ -655,8 +660,8 @@ int main(int argc, char* argv[])
 
   const double median = Median(times);
   const double fastest = *std::min_element(times.begin(), times.end());
-  std::cout << o.Method << ": " << o.Width << "x" << o.Height << ", median " << median
-            << " s, min " << fastest << " s over " << o.Frames << " frame(s)";
+  std::cout << o.Method << ": " << o.Width << "x" << o.Height << ", median " << median << " s, min "
+            << fastest << " s over " << o.Frames << " frame(s)";
   if (adaptive)
   {
     std::cout << ", " << adaptive->GetRaysCast() << " rays, " << adaptive->GetMeanSamplesPerRay()
@@ -675,8 +680,8 @@ int main(int argc, char* argv[])
            << "  \"parameters\": {\"tolerance\": " << o.Tolerance << ", \"step\": " << o.Step
            << ", \"h0\": " << o.H0 << ", \"hmin\": " << o.HMin << ", \"hmax\": " << o.HMax
            << ", \"azimuth\": " << o.Azimuth << ", \"elevation\": " << o.Elevation
-           << ", \"zoom\": " << o.Zoom << ", \"threads\": " << vtkSMPTools::GetEstimatedNumberOfThreads()
-           << "},\n"
+           << ", \"zoom\": " << o.Zoom
+           << ", \"threads\": " << vtkSMPTools::GetEstimatedNumberOfThreads() << "},\n"
            << "  \"width\": " << o.Width << ",\n  \"height\": " << o.Height << ",\n"
            << "  \"frames\": " << o.Frames << ",\n"
            << "  \"median_seconds\": " << median << ",\n  \"min_seconds\": " << fastest << ",\n";

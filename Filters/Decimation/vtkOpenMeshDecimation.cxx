@@ -343,8 +343,7 @@ private:
       return false;
     }
     // v0 must have at least two faces.
-    if (this->M.cw_rotated_halfedge_handle(this->M.cw_rotated_halfedge_handle(ci.v0v1)) ==
-      ci.v0v1)
+    if (this->M.cw_rotated_halfedge_handle(this->M.cw_rotated_halfedge_handle(ci.v0v1)) == ci.v0v1)
     {
       return false;
     }
@@ -575,7 +574,8 @@ int vtkOpenMeshDecimation::RequestData(
   }
   output->SetPoints(points);
   output->SetPolys(polys);
-  this->AchievedReduction = 1.0 - static_cast<double>(mesh.n_faces()) / static_cast<double>(facesIn);
+  this->AchievedReduction =
+    1.0 - static_cast<double>(mesh.n_faces()) / static_cast<double>(facesIn);
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -1,7 +1,7 @@
 // Trilinear sampling and empty-space skipping: trilinear interpolation is
-// exact on trilinear functions (span of 1, x, y, z, xy, yz, zx, xyz); the segments of EmptySpaceMap cover every
-// point where tau > 0; integrating over them changes a Riemann sum not at all
-// and an adaptive integral by less than eps.
+// exact on trilinear functions (span of 1, x, y, z, xy, yz, zx, xyz); the segments of EmptySpaceMap
+// cover every point where tau > 0; integrating over them changes a Riemann sum not at all and an
+// adaptive integral by less than eps.
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
@@ -191,8 +191,7 @@ TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)
     // The adaptive integral over the segments, like the one over the whole
     // ray, stays within eps of the reference over the whole ray.
     const auto reference = IntegrateReference(field, tf, ray.Length);
-    const auto adaptive =
-      IntegrateAdaptive(field, tf, segments.data(), segments.size(), settings);
+    const auto adaptive = IntegrateAdaptive(field, tf, segments.data(), segments.size(), settings);
     const auto whole = IntegrateAdaptive(field, tf, ray.Length, settings);
     ASSERT_TRUE(adaptive.Error.empty()) << adaptive.Error;
     for (int c = 0; c < 4; ++c)

@@ -122,7 +122,7 @@ TEST(Oracles, ConstantMedium)
       const double alpha = -std::expm1(-tau * D);
       const glm::dvec4 exact(c * alpha, alpha);
       // The reference's early termination moves a channel by at most 2e-10.
-    EXPECT_LT(MaxError(IntegrateReference(field, tf, D).RGBA, exact), 2e-10);
+      EXPECT_LT(MaxError(IntegrateReference(field, tf, D).RGBA, exact), 2e-10);
       EXPECT_LT(
         MaxError(IntegrateAdaptive(field, tf, D, Settings(1e-3, Strategy::Coupled)).RGBA, exact),
         1e-3);

@@ -192,4 +192,3 @@ TEST(TransferFunction, ClassifyMatchesTheEvaluators)
     }
   }
 }
-

@@ -45,9 +45,9 @@ constexpr double SegmentPad = 1e-6;
 // What a frame's ray cast depends on, besides the data and the property.
 struct FrameGeometry
 {
-  double NDCToWorld[16];    // inverse of the camera's composite projection
-  double WorldToGrid[16];   // world -> continuous grid index (from 0)
-  double Voxel = 1.0;       // world length of one voxel unit
+  double NDCToWorld[16];  // inverse of the camera's composite projection
+  double WorldToGrid[16]; // world -> continuous grid index (from 0)
+  double Voxel = 1.0;     // world length of one voxel unit
   int Dimensions[3] = { 0, 0, 0 };
   int Width = 0;
   int Height = 0;
@@ -80,8 +80,8 @@ glm::dvec3 ToPoint(const glm::dvec4& p)
 
 // The pixel's ray in grid coordinates, t in voxel units from the volume box's
 // entry, D the length inside the box (up to the depth buffer). False: miss.
-bool PixelRay(const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction,
-  double& D)
+bool PixelRay(
+  const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction, double& D)
 {
   const double nx = 2.0 * (x + 0.5) / g.Width - 1.0;
   const double ny = 2.0 * (y + 0.5) / g.Height - 1.0;
@@ -271,8 +271,8 @@ vtkStandardNewMacro(vtkAdaptiveVolumeMapper);
 vtkAdaptiveVolumeMapper::vtkAdaptiveVolumeMapper()
   : Internals(new vtkInternals)
 {
-  this->Internals->DisplayHelper = vtkSmartPointer<vtkRayCastImageDisplayHelper>::Take(
-    vtkRayCastImageDisplayHelper::New());
+  this->Internals->DisplayHelper =
+    vtkSmartPointer<vtkRayCastImageDisplayHelper>::Take(vtkRayCastImageDisplayHelper::New());
   if (this->Internals->DisplayHelper)
   {
     this->Internals->DisplayHelper->PreMultipliedColorsOn();
@@ -340,8 +340,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   adaptive.InitialStep = this->InitialStep;
   adaptive.MinimumStep = this->MinimumStep;
   adaptive.MaximumStep = this->MaximumStep;
-  adaptive.Coupling = this->IntegrationMethod == ADAPTIVE_DECOUPLED ? an::Strategy::Decoupled
-                                                                      : an::Strategy::Coupled;
+  adaptive.Coupling =
+    this->IntegrationMethod == ADAPTIVE_DECOUPLED ? an::Strategy::Decoupled : an::Strategy::Coupled;
   const std::string invalid = adaptive.Validate();
   if (!invalid.empty())
   {
@@ -352,8 +352,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
   {
-    vtkErrorMacro(<< "The sample distance must be positive and finite, not "
-                  << this->SampleDistance << ".");
+    vtkErrorMacro(<< "The sample distance must be positive and finite, not " << this->SampleDistance
+                  << ".");
     return fail();
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
@@ -377,8 +377,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return fail();
   }
   int cellFlag = 0;
-  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input, this->ScalarMode,
-    this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
   int dims[3];
   input->GetDimensions(dims);
   if (!scalars)
@@ -477,8 +477,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkWarningMacro(<< "Shading is not supported and is ignored (emission-absorption model).");
     internals.WarnedShading = true;
   }
-  if (property->GetMTime() != internals.PropertyTime || this->OpacityModel != internals.OpacityModel ||
-    voxel != internals.Voxel || internals.ClassifyTime < internals.RangesTime)
+  if (property->GetMTime() != internals.PropertyTime ||
+    this->OpacityModel != internals.OpacityModel || voxel != internals.Voxel ||
+    internals.ClassifyTime < internals.RangesTime)
   {
     const std::string error = avos::TransferFunctionFromProperty(
       property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
@@ -508,12 +509,13 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   std::copy(dims, dims + 3, g.Dimensions);
   g.Voxel = voxel;
   g.Depth.resize(static_cast<std::size_t>(width) * height);
-  if (!ren->GetRenderWindow()->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, g.Depth.data()))
+  if (!ren->GetRenderWindow()->GetZbufferData(
+        x0, y0, x0 + width - 1, y0 + height - 1, g.Depth.data()))
   {
     std::fill(g.Depth.begin(), g.Depth.end(), 1.0f);
   }
-  vtkMatrix4x4* projection =
-    ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+  vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+    ren->GetTiledAspectRatio(), -1, 1);
   std::array<double, 16> projectionValues, volumeValues;
   std::copy(projection->GetData(), projection->GetData() + 16, projectionValues.begin());
   std::copy(vol->GetMatrix()->GetData(), vol->GetMatrix()->GetData() + 16, volumeValues.begin());

@@ -74,10 +74,7 @@ public:
   vtkGetMacro(IntegrationMethod, int);
   void SetIntegrationMethodToRiemann() { this->SetIntegrationMethod(RIEMANN); }
   void SetIntegrationMethodToAdaptiveCoupled() { this->SetIntegrationMethod(ADAPTIVE_COUPLED); }
-  void SetIntegrationMethodToAdaptiveDecoupled()
-  {
-    this->SetIntegrationMethod(ADAPTIVE_DECOUPLED);
-  }
+  void SetIntegrationMethodToAdaptiveDecoupled() { this->SetIntegrationMethod(ADAPTIVE_DECOUPLED); }
   void SetIntegrationMethodToReference() { this->SetIntegrationMethod(REFERENCE); }
   const char* GetIntegrationMethodAsString();
   ///@}

@@ -62,7 +62,8 @@ struct VolumeRaySetup
     {
       return "the volume's spacing must be non-zero and finite";
     }
-    const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF);
+    const std::string error =
+      TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
@@ -144,8 +145,8 @@ bool VolumeRaySetup::Dispatch(F&& f) const
 {
   switch (this->Scalars->GetDataType())
   {
-    vtkTemplateMacro(f(VolumeRay<VTK_TT>(*this, static_cast<const VTK_TT*>(
-                         this->Scalars->GetVoidPointer(0)))));
+    vtkTemplateMacro(
+      f(VolumeRay<VTK_TT>(*this, static_cast<const VTK_TT*>(this->Scalars->GetVoidPointer(0)))));
     default:
       return false;
   }

@@ -42,11 +42,10 @@ struct PrevisualizationKey
 
   bool operator==(const PrevisualizationKey& o) const
   {
-    return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone &&
-      this->Flip == o.Flip && this->Method == o.Method &&
-      this->SampleDistance == o.SampleDistance && this->Tolerance == o.Tolerance &&
-      this->Extinction == o.Extinction && this->Surface == o.Surface &&
-      this->Volume == o.Volume && this->Property == o.Property;
+    return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone && this->Flip == o.Flip &&
+      this->Method == o.Method && this->SampleDistance == o.SampleDistance &&
+      this->Tolerance == o.Tolerance && this->Extinction == o.Extinction &&
+      this->Surface == o.Surface && this->Volume == o.Volume && this->Property == o.Property;
   }
 };
 
@@ -235,8 +234,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   {
     in.WithNormals = surface;
   }
-  else if (in.NormalsSource != surface || in.NormalsTime != surface->GetMTime() ||
-    !in.WithNormals)
+  else if (in.NormalsSource != surface || in.NormalsTime != surface->GetMTime() || !in.WithNormals)
   {
     vtkNew<vtkPolyDataNormals> computed;
     computed->SetInputData(surface);
@@ -365,8 +363,8 @@ int vtkVolumeOnSurfaceFilter::RequestData(
           const glm::fvec4 c = in.Colors[first + best];
           for (int k = 0; k < 4; ++k)
           {
-            rgba[k] =
-              static_cast<unsigned char>(std::lround(255.0f * std::min(std::max(c[k], 0.0f), 1.0f)));
+            rgba[k] = static_cast<unsigned char>(
+              std::lround(255.0f * std::min(std::max(c[k], 0.0f), 1.0f)));
           }
         }
         colors->SetTypedTuple(v, rgba);
@@ -380,13 +378,13 @@ int vtkVolumeOnSurfaceFilter::RequestData(
 
   // The technique's memory (the paper's Table III).
   this->VolumeMemory = static_cast<vtkIdType>(scalars->GetActualMemorySize()) * 1024;
-  this->SurfaceMemory = static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
-                          normals->GetActualMemorySize() +
-                          withNormals->GetPolys()->GetActualMemorySize() +
-                          colors->GetActualMemorySize()) *
+  this->SurfaceMemory =
+    static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
+      normals->GetActualMemorySize() + withNormals->GetPolys()->GetActualMemorySize() +
+      colors->GetActualMemorySize()) *
     1024;
-  this->ConesMemory = static_cast<vtkIdType>(in.Directions.size() * sizeof(glm::fvec3) +
-    in.Colors.size() * sizeof(glm::fvec4));
+  this->ConesMemory = static_cast<vtkIdType>(
+    in.Directions.size() * sizeof(glm::fvec3) + in.Colors.size() * sizeof(glm::fvec4));
   return 1;
 }
 

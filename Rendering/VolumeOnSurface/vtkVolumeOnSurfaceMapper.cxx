@@ -43,9 +43,9 @@ struct ViewKey
 
   bool operator==(const ViewKey& o) const
   {
-    return this->Projection == o.Projection && this->Eye == o.Eye &&
-      this->Parallel == o.Parallel && this->Surface == o.Surface && this->Volume == o.Volume &&
-      this->Property == o.Property && this->Integration == o.Integration;
+    return this->Projection == o.Projection && this->Eye == o.Eye && this->Parallel == o.Parallel &&
+      this->Surface == o.Surface && this->Volume == o.Volume && this->Property == o.Property &&
+      this->Integration == o.Integration;
   }
 };
 } // namespace
@@ -312,8 +312,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
             const glm::dvec4 c = caster.Cast(point, line, reach);
             for (int k = 0; k < 4; ++k)
             {
-              in.FullColors[full][k] = static_cast<unsigned char>(
-                std::lround(255.0 * std::min(std::max(c[k], 0.0), 1.0)));
+              in.FullColors[full][k] =
+                static_cast<unsigned char>(std::lround(255.0 * std::min(std::max(c[k], 0.0), 1.0)));
             }
             in.Known[full] = 1;
             ++localRays;

@@ -86,8 +86,8 @@ public:
       this->Observer->GetWarningMessage().find(expected) != std::string::npos;
     if (!ok)
     {
-      std::cerr << "FAIL " << what << ": expected a warning containing '" << expected
-                << "', got '" << this->Observer->GetWarningMessage() << "'\n";
+      std::cerr << "FAIL " << what << ": expected a warning containing '" << expected << "', got '"
+                << this->Observer->GetWarningMessage() << "'\n";
     }
     this->Clear();
     return ok;

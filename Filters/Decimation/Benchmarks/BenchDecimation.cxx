@@ -162,7 +162,8 @@ int main(int argc, char* argv[])
     vtkNew<vtkXMLImageDataReader> reader;
     reader->SetFileName(file.c_str());
     const double iso = name == "foot" ? 80.0 : 40.0;
-    surfaces.push_back({ name + " (iso " + std::to_string(int(iso)) + ")", Isosurface(reader, iso) });
+    surfaces.push_back(
+      { name + " (iso " + std::to_string(int(iso)) + ")", Isosurface(reader, iso) });
   }
 
   using Decimator = std::function<vtkSmartPointer<vtkPolyData>(vtkPolyData*, double)>;
@@ -203,7 +204,8 @@ int main(int argc, char* argv[])
       } },
   };
 
-  std::printf("| surface | triangles | target | filter | achieved | time (s) | Hausdorff (%% of diagonal) |\n");
+  std::printf("| surface | triangles | target | filter | achieved | time (s) | Hausdorff (%% of "
+              "diagonal) |\n");
   std::printf("|---|---:|---:|---|---:|---:|---:|\n");
   vtkNew<vtkTimerLog> timer;
   for (const Surface& s : surfaces)

@@ -195,8 +195,7 @@ int TestOpenMeshDecimation(int, char*[])
       vtkPolyData* out = decimate->GetOutput();
       const double achieved =
         1.0 - double(out->GetNumberOfPolys()) / double(torus->GetNumberOfPolys());
-      const std::string what =
-        "type " + std::to_string(type) + " target " + std::to_string(target);
+      const std::string what = "type " + std::to_string(type) + " target " + std::to_string(target);
       std::cout << what << ": achieved " << achieved << "\n";
       Expect(std::abs(achieved - target) <= 0.01, what + ": reduction within 1 %");
       Expect(std::abs(achieved - decimate->GetAchievedReduction()) < 1e-12, what + ": reported");
@@ -212,8 +211,7 @@ int TestOpenMeshDecimation(int, char*[])
     vtkNew<vtkCallbackCommand> record;
     record->SetClientData(&progress);
     record->SetCallback(
-      [](vtkObject*, unsigned long, void* clientData, void* callData)
-      {
+      [](vtkObject*, unsigned long, void* clientData, void* callData) {
         static_cast<std::vector<double>*>(clientData)->push_back(*static_cast<double*>(callData));
       });
     decimate->AddObserver(vtkCommand::ProgressEvent, record);
@@ -270,10 +268,10 @@ int TestOpenMeshDecimation(int, char*[])
     distance->SetTargetDistanceMethodToPointToCell();
     distance->Update();
     const double d = distance->GetOutput(0)->GetFieldData()->GetArray("HausdorffDistance")
-                       ? vtkDataArray::SafeDownCast(
-                           distance->GetOutput(0)->GetFieldData()->GetArray("HausdorffDistance"))
-                           ->GetComponent(0, 0)
-                       : -1.0;
+      ? vtkDataArray::SafeDownCast(
+          distance->GetOutput(0)->GetFieldData()->GetArray("HausdorffDistance"))
+          ->GetComponent(0, 0)
+      : -1.0;
     std::cout << "Hausdorff 0.002: achieved " << decimate->GetAchievedReduction()
               << ", input-to-output distance " << d << "\n";
     Expect(decimate->GetAchievedReduction() < 0.95, "the tolerance stops the reduction");

@@ -123,7 +123,10 @@ public:
     return visible;
   }
 
-  bool IsVisible(int bx, int by, int bz) const { return this->Visible[this->Index(bx, by, bz)] != 0; }
+  bool IsVisible(int bx, int by, int bz) const
+  {
+    return this->Visible[this->Index(bx, by, bz)] != 0;
+  }
 
   // The parts of the ray origin + t direction, t in [0, D], that cross visible
   // blocks. The ray is expected inside the volume's box for t in [0, D].
@@ -152,7 +155,8 @@ public:
     Real t = Real(0);
     while (t < D)
     {
-      const int axis = next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
+      const int axis =
+        next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
       const Real exit = std::min(next[axis], D);
       if (this->IsVisible(b[0], b[1], b[2]) && exit >= t)
       {

@@ -754,9 +754,8 @@ AdaptiveSettings<Real> ReferenceSettings()
 }
 
 template <typename Real, typename Field>
-RayResult<Real> IntegrateReference(
-  const Field& field, const TransferFunction<Real>& tf, const Interval<Real>* segments,
-  std::size_t count)
+RayResult<Real> IntegrateReference(const Field& field, const TransferFunction<Real>& tf,
+  const Interval<Real>* segments, std::size_t count)
 {
   return IntegrateAdaptive(field, tf, segments, count, ReferenceSettings<Real>());
 }

@@ -28,8 +28,8 @@ struct Grid
 
 // Fills `window` (sized by the caller) with the four viewports. `decorate`
 // may add props to each renderer; the camera is reset, then turned.
-inline Grid Build(vtkRenderWindow* window, vtkAlgorithmOutput* volume,
-  vtkVolumeProperty* property, int opacityModel, double azimuth, double elevation,
+inline Grid Build(vtkRenderWindow* window, vtkAlgorithmOutput* volume, vtkVolumeProperty* property,
+  int opacityModel, double azimuth, double elevation,
   const std::function<void(vtkRenderer*)>& decorate = nullptr)
 {
   Grid grid;

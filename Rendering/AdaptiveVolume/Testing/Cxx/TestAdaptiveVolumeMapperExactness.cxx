@@ -128,7 +128,8 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
   renderer->GetActiveCamera()->OrthogonalizeViewUp();
   renderer->ResetCameraClippingRange();
 
-  const Run runs[] = { { "coupled eps 1e-2", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, 1e-2, 1e-2 },
+  const Run runs[] = { { "coupled eps 1e-2", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, 1e-2,
+                         1e-2 },
     { "coupled eps 1e-3", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, 1e-3, 1e-3 },
     { "decoupled eps 1e-3", vtkAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED, 1e-3, 1e-3 },
     { "reference", vtkAdaptiveVolumeMapper::REFERENCE, 1e-2, 1e-5 },

@@ -194,7 +194,8 @@ struct Scene
         {
           for (int c = 0; c < 3; ++c)
           {
-            image[3 * (vy * Size + vx) + c] = cast->GetImage()[4 * (y * memory[0] + x) + c] / 32767.0;
+            image[3 * (vy * Size + vx) + c] =
+              cast->GetImage()[4 * (y * memory[0] + x) + c] / 32767.0;
           }
         }
       }

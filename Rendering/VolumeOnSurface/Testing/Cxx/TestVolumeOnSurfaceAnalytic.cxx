@@ -1,5 +1,5 @@
-// Image regression: the Marschner-Lobb isosurface at 0.5 coloured by VoS^M (left) and VoS^M* (right)
-// with the volume seen through it (a translucent ramp of the same signal).
+// Image regression: the Marschner-Lobb isosurface at 0.5 coloured by VoS^M (left) and VoS^M*
+// (right) with the volume seen through it (a translucent ramp of the same signal).
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkPiecewiseFunction.h"
