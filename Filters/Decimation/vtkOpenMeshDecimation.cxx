@@ -125,7 +125,7 @@ bool Decimate(Mesh& mesh, const Constraints& c, DecimationProgress& observer, st
   return true;
 }
 
-// The exact quadric-error order with lazy evaluation. OpenMesh's DecimaterT
+// The least-quadric-error order with lazy evaluation. OpenMesh's DecimaterT
 // re-evaluates every candidate collapse of every vertex around a collapse
 // (legality and all constraints, about 36 per collapse). Here the priority
 // queue holds halfedges keyed by their quadric error only, and legality and
@@ -169,7 +169,9 @@ public:
     {
       module->initialize();
     }
-    // Area-weighted plane quadrics, as OpenMesh's ModQuadricT.
+    // Plane quadrics, unweighted as in Garland and Heckbert's paper. (OpenMesh's
+    // ModQuadricT weights them by area; measured on a 1.1 M-triangle
+    // isosurface, unweighted ones halve the Hausdorff distance at 25 to 90 %.)
     for (const Mesh::FaceHandle f : mesh.faces())
     {
       Mesh::Point p[3];
@@ -185,7 +187,6 @@ public:
         n /= twiceArea;
       }
       OpenMesh::Geometry::Quadricd q(n[0], n[1], n[2], -OpenMesh::dot(n, p[0]));
-      q *= 0.5 * twiceArea;
       for (const Mesh::VertexHandle v : mesh.fv_range(f))
       {
         this->Quadrics[v.idx()] += q;
