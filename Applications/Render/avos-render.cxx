@@ -412,11 +412,14 @@ public:
   }
   void Execute(vtkObject*, unsigned long, void* data) override
   {
+    // 0 and 1 also come from the pipeline's own updates: only the ray
+    // cast's bands in between are shown.
+    const double fraction = *static_cast<double*>(data);
     this->Timer->StopTimer();
-    if (this->Timer->GetElapsedTime() > 1.0)
+    if (this->Timer->GetElapsedTime() > 1.0 && fraction > 0.0 && fraction < 1.0)
     {
-      std::cerr << "\rrendering " << std::setw(3)
-                << static_cast<int>(100.0 * *static_cast<double*>(data)) << " %" << std::flush;
+      std::cerr << "\rrendering " << std::setw(3) << static_cast<int>(100.0 * fraction) << " %"
+                << std::flush;
       this->Printed = true;
     }
   }
