@@ -43,6 +43,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "avos/numerics/ImageMetrics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -360,11 +362,21 @@ struct Comparison
   double Exceeding[3][4] = {};
   double MaximumError[4] = {};
   long Pixels = 0;
+  double PSNR[4] = {}; // dB, whole image
+  double SSIM[4] = {};
 };
 
-Comparison Compare(const std::vector<float>& image, const std::vector<float>& reference)
+Comparison Compare(
+  const std::vector<float>& image, const std::vector<float>& reference, int width, int height)
 {
   Comparison c;
+  for (int ch = 0; ch < 4; ++ch)
+  {
+    const avos::numerics::ImageChannel<float> a{ image.data(), width, height, 4, ch };
+    const avos::numerics::ImageChannel<float> b{ reference.data(), width, height, 4, ch };
+    c.PSNR[ch] = avos::numerics::PSNR(a, b);
+    c.SSIM[ch] = avos::numerics::SSIM(a, b);
+  }
   long counts[3][4] = {};
   for (std::size_t p = 0; p < image.size(); p += 4)
   {
@@ -647,7 +659,7 @@ int main(int argc, char* argv[])
     {
       return EXIT_FAILURE;
     }
-    comparison = Compare(rgba, reference);
+    comparison = Compare(rgba, reference, o.Width, o.Height);
     std::cout << "error against " << o.Compare << " over " << comparison.Pixels
               << " pixels, % exceeding (R G B A):";
     for (int t = 0; t < 3; ++t)
@@ -658,7 +670,17 @@ int main(int argc, char* argv[])
         std::cout << " " << std::setprecision(3) << comparison.Exceeding[t][ch];
       }
     }
-    std::cout << std::defaultfloat << std::setprecision(6) << "\n";
+    std::cout << std::defaultfloat << std::setprecision(6) << "\n  PSNR (dB):";
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      std::cout << " " << comparison.PSNR[ch];
+    }
+    std::cout << "  SSIM:";
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      std::cout << " " << comparison.SSIM[ch];
+    }
+    std::cout << "\n";
   }
 
   const double median = Median(times);
@@ -700,7 +722,19 @@ int main(int argc, char* argv[])
                << comparison.Exceeding[t][0] << ", " << comparison.Exceeding[t][1] << ", "
                << comparison.Exceeding[t][2] << ", " << comparison.Exceeding[t][3] << "]";
       }
-      report << "},\n";
+      auto list = [&](const double* v)
+      {
+        std::ostringstream out;
+        out << "[";
+        for (int ch = 0; ch < 4; ++ch)
+        {
+          // JSON has no infinity: identical channels give null.
+          out << (ch ? ", " : "") << (std::isfinite(v[ch]) ? std::to_string(v[ch]) : "null");
+        }
+        return out.str() + "]";
+      };
+      report << ", \"psnr_rgba\": " << list(comparison.PSNR)
+             << ", \"ssim_rgba\": " << list(comparison.SSIM) << "},\n";
     }
     if (adaptive)
     {

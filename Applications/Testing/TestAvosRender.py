@@ -94,6 +94,18 @@ for path in inputs:
         check(reference_output in (None, rays), path + " gives the same rays as the others")
         reference_output = rays
 
+# --compare against a reference image: per-channel thresholds, PSNR, SSIM.
+reference = os.path.join(SCRATCH, "reference.exr")
+report = os.path.join(SCRATCH, "compare.json")
+run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "reference", "--output", reference)
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "riemann", "--step", "1",
+                "--compare", reference, "--report", report)
+check(code == 0 and "SSIM" in out, "compare runs: " + out)
+if code == 0:
+    c = json.load(open(report))["compare"]
+    check(c["pixels"] > 0 and all(0.0 < v <= 1.0 for v in c["ssim_rgba"]) and
+          all(v is None or v > 20.0 for v in c["psnr_rgba"]), "compare figures: %r" % c)
+
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
 check(code == 0 and "rays" in out, "default transfer function: " + out)
