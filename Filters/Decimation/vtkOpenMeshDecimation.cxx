@@ -194,13 +194,10 @@ public:
     }
     // All halfedges at once: heapifying is linear, pushing one by one is not.
     std::vector<Candidate> all;
-    all.reserve(mesh.n_halfedges());
-    for (const Mesh::HalfedgeHandle h : mesh.halfedges())
+    all.reserve(mesh.n_edges());
+    for (const Mesh::EdgeHandle e : mesh.edges())
     {
-      if (!mesh.status(mesh.from_vertex_handle(h)).locked())
-      {
-        all.push_back(this->Evaluate(h));
-      }
+      this->PushEdge(mesh.halfedge_handle(e, 0), &all);
     }
     this->Queue = std::priority_queue<Candidate>(std::less<Candidate>(), std::move(all));
   }
@@ -230,7 +227,13 @@ public:
       CollapseInfo ci(this->M, h);
       if (!this->Legal(ci))
       {
+        // The edge's other direction, at its own error, if not tried yet.
         this->Parked[h.idx()] = 1;
+        const Mesh::HalfedgeHandle o = this->M.opposite_halfedge_handle(h);
+        if (!c.Single && !this->Parked[o.idx()])
+        {
+          this->Push(o, true);
+        }
         continue;
       }
       for (auto& module : this->Modules)
@@ -270,7 +273,8 @@ private:
   struct Candidate
   {
     float Error;
-    int Halfedge;
+    int Halfedge : 31;
+    unsigned Single : 1;
     unsigned Stamp0;
     unsigned Stamp1;
     bool operator<(const Candidate& other) const { return this->Error > other.Error; }
@@ -283,15 +287,55 @@ private:
     const Mesh::VertexHandle v1 = this->M.to_vertex_handle(h);
     OpenMesh::Geometry::Quadricd q = this->Quadrics[v0.idx()];
     q += this->Quadrics[v1.idx()];
-    return { static_cast<float>(q(this->M.point(v1))), h.idx(), this->Stamps[v0.idx()],
-      this->Stamps[v1.idx()] };
+    Candidate c;
+    c.Error = static_cast<float>(q(this->M.point(v1)));
+    c.Halfedge = h.idx();
+    c.Single = 0;
+    c.Stamp0 = this->Stamps[v0.idx()];
+    c.Stamp1 = this->Stamps[v1.idx()];
+    return c;
   }
 
-  void Push(Mesh::HalfedgeHandle h)
+  // One direction of an edge. `single`: its other direction is queued or
+  // parked on its own.
+  void Push(Mesh::HalfedgeHandle h, bool single)
   {
     if (!this->M.status(this->M.from_vertex_handle(h)).locked())
     {
-      this->Queue.push(this->Evaluate(h));
+      Candidate c = this->Evaluate(h);
+      c.Single = single;
+      this->Queue.push(c);
+    }
+  }
+
+  // An edge as one entry: its direction of least error; the other is queued
+  // only if that one turns out illegal (halves the queue).
+  void PushEdge(Mesh::HalfedgeHandle h, std::vector<Candidate>* into = nullptr)
+  {
+    const Mesh::HalfedgeHandle o = this->M.opposite_halfedge_handle(h);
+    const bool hFree = !this->M.status(this->M.from_vertex_handle(h)).locked();
+    const bool oFree = !this->M.status(this->M.from_vertex_handle(o)).locked();
+    if (!hFree && !oFree)
+    {
+      return;
+    }
+    Candidate c = hFree ? this->Evaluate(h) : this->Evaluate(o);
+    if (hFree && oFree)
+    {
+      const Candidate other = this->Evaluate(o);
+      if (other.Error < c.Error)
+      {
+        c = other;
+      }
+    }
+    c.Single = !(hFree && oFree);
+    if (into)
+    {
+      into->push_back(c);
+    }
+    else
+    {
+      this->Queue.push(c);
     }
   }
 
@@ -304,8 +348,7 @@ private:
     {
       const Mesh::HalfedgeHandle o = this->M.opposite_halfedge_handle(h);
       this->Parked[h.idx()] = this->Parked[o.idx()] = 0;
-      this->Push(h);
-      this->Push(o);
+      this->PushEdge(h);
       for (const Mesh::HalfedgeHandle g : this->M.voh_range(this->M.to_vertex_handle(h)))
       {
         for (const Mesh::HalfedgeHandle k : { g, this->M.opposite_halfedge_handle(g) })
@@ -313,7 +356,7 @@ private:
           if (this->Parked[k.idx()])
           {
             this->Parked[k.idx()] = 0;
-            this->Push(k);
+            this->Push(k, true);
           }
         }
       }
