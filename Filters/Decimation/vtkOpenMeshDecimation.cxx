@@ -128,8 +128,9 @@ bool Decimate(Mesh& mesh, const Constraints& c, DecimationProgress& observer, st
 // The least-quadric-error order with lazy evaluation. OpenMesh's DecimaterT
 // re-evaluates every candidate collapse of every vertex around a collapse
 // (legality and all constraints, about 36 per collapse). Here the priority
-// queue holds halfedges keyed by their quadric error only, and legality and
-// constraints are checked when a candidate reaches the top: the collapse
+// queue holds edges keyed by the quadric error of their cheaper direction
+// (the other direction is queued only if that one is illegal), and legality
+// and constraints are checked when a candidate reaches the top: the collapse
 // taken is still the legal one of least error. A collapse into v changes the
 // error of the halfedges at v only: they get new entries, and the old ones
 // turn stale (each vertex has a stamp, renewed when v is). A candidate found
