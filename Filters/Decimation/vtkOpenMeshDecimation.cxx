@@ -79,6 +79,37 @@ struct Constraints
   double AspectRatio;
 };
 
+template <typename ModuleT>
+struct ModuleTag
+{
+  using Type = ModuleT;
+};
+
+// The binary constraints, whichever decimater holds them: `add` takes a
+// ModuleTag, creates a module of that type and returns it.
+template <typename Add>
+void AddConstraints(const Constraints& c, Add&& add)
+{
+  if (c.NormalDeviation < 180.0)
+  {
+    // Always binary.
+    add(ModuleTag<OpenMesh::Decimater::ModNormalFlippingT<Mesh>>())
+      .set_max_normal_deviation(c.NormalDeviation);
+  }
+  if (c.Hausdorff > 0.0)
+  {
+    auto& hausdorff = add(ModuleTag<OpenMesh::Decimater::ModHausdorffT<Mesh>>());
+    hausdorff.set_tolerance(c.Hausdorff);
+    hausdorff.set_binary(true);
+  }
+  if (c.AspectRatio > 0.0)
+  {
+    auto& aspect = add(ModuleTag<OpenMesh::Decimater::ModAspectRatioT<Mesh>>());
+    aspect.set_aspect_ratio(static_cast<float>(c.AspectRatio));
+    aspect.set_binary(true);
+  }
+}
+
 // One priority (the quadric error), the rest binary constraints.
 template <typename Decimater>
 void AddModules(Decimater& decimater, const Constraints& c)
@@ -86,26 +117,12 @@ void AddModules(Decimater& decimater, const Constraints& c)
   typename OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
   decimater.add(quadric);
   decimater.module(quadric).unset_max_err();
-  if (c.NormalDeviation < 180.0)
-  {
-    typename OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle normals;
-    decimater.add(normals);
-    decimater.module(normals).set_max_normal_deviation(c.NormalDeviation); // always binary
-  }
-  if (c.Hausdorff > 0.0)
-  {
-    typename OpenMesh::Decimater::ModHausdorffT<Mesh>::Handle hausdorff;
-    decimater.add(hausdorff);
-    decimater.module(hausdorff).set_tolerance(c.Hausdorff);
-    decimater.module(hausdorff).set_binary(true);
-  }
-  if (c.AspectRatio > 0.0)
-  {
-    typename OpenMesh::Decimater::ModAspectRatioT<Mesh>::Handle aspect;
-    decimater.add(aspect);
-    decimater.module(aspect).set_aspect_ratio(static_cast<float>(c.AspectRatio));
-    decimater.module(aspect).set_binary(true);
-  }
+  AddConstraints(
+    c, [&decimater](auto tag) -> auto& {
+      typename decltype(tag)::Type::Handle handle;
+      decimater.add(handle);
+      return decimater.module(handle);
+    });
 }
 
 // Runs one kind of decimater down to `faces` faces (or `vertices` vertices
@@ -146,26 +163,12 @@ public:
     , Stamps(mesh.n_vertices(), 0)
     , Parked(mesh.n_halfedges(), 0)
   {
-    using Module = OpenMesh::Decimater::ModBaseT<Mesh>;
-    if (c.NormalDeviation < 180.0)
-    {
-      auto normals = std::make_unique<OpenMesh::Decimater::ModNormalFlippingT<Mesh>>(mesh);
-      normals->set_max_normal_deviation(c.NormalDeviation);
-      this->Modules.push_back(std::unique_ptr<Module>(normals.release()));
-    }
-    if (c.Hausdorff > 0.0)
-    {
-      auto hausdorff = std::make_unique<OpenMesh::Decimater::ModHausdorffT<Mesh>>(mesh);
-      hausdorff->set_tolerance(c.Hausdorff);
-      this->Modules.push_back(std::unique_ptr<Module>(hausdorff.release()));
-    }
-    if (c.AspectRatio > 0.0)
-    {
-      auto aspect = std::make_unique<OpenMesh::Decimater::ModAspectRatioT<Mesh>>(mesh);
-      aspect->set_aspect_ratio(static_cast<float>(c.AspectRatio));
-      aspect->set_binary(true);
-      this->Modules.push_back(std::unique_ptr<Module>(aspect.release()));
-    }
+    AddConstraints(
+      c, [ this, &mesh ](auto tag) -> auto& {
+        auto* module = new typename decltype(tag)::Type(mesh);
+        this->Modules.emplace_back(module);
+        return *module;
+      });
     for (auto& module : this->Modules)
     {
       module->initialize();
