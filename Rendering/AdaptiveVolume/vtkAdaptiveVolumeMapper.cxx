@@ -16,6 +16,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/EmptySpace.h"
@@ -414,25 +415,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return fail();
   }
 
-  // Grid -> world: the volume's matrix, the image's index -> physical
-  // matrix (origin, spacing, direction), and the extent's start.
+  // Grid -> world: the image's placement, then the volume's matrix.
   vtkNew<vtkMatrix4x4> gridToWorld;
-  {
-    vtkNew<vtkMatrix4x4> start;
-    const int* extent = input->GetExtent();
-    for (int a = 0; a < 3; ++a)
-    {
-      start->SetElement(a, 3, extent[2 * a]);
-    }
-    vtkMatrix4x4::Multiply4x4(input->GetIndexToPhysicalMatrix(), start, gridToWorld);
-    vtkMatrix4x4::Multiply4x4(vol->GetMatrix(), gridToWorld, gridToWorld);
-  }
-  double voxel = VTK_DOUBLE_MAX;
-  for (int a = 0; a < 3; ++a)
-  {
-    const double* m = gridToWorld->GetData();
-    voxel = std::min(voxel, std::sqrt(m[a] * m[a] + m[4 + a] * m[4 + a] + m[8 + a] * m[8 + a]));
-  }
+  const double voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
   vtkNew<vtkMatrix4x4> worldToGrid;
   vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
   if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)

@@ -12,12 +12,14 @@
 #include "vtkPointData.h"
 #include "vtkType.h"
 
+#include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -31,7 +33,7 @@ struct VolumeRaySetup
 {
   int Dimensions[3] = { 0, 0, 0 };
   double WorldToGrid[16];
-  double Voxel = 1.0; // world length of one voxel unit (the smallest spacing)
+  double Voxel = 1.0; // world length of one voxel unit (the shortest grid step)
   avos::numerics::TransferFunction<double> TF;
   bool Adaptive = false;
   double SampleDistance = 0.5;
@@ -56,8 +58,8 @@ struct VolumeRaySetup
     {
       return "the sample distance and the tolerance must be positive";
     }
-    const double* spacing = volume->GetSpacing();
-    this->Voxel = std::min({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) });
+    vtkNew<vtkMatrix4x4> gridToWorld, inverse;
+    this->Voxel = GridToWorld(volume, nullptr, gridToWorld);
     if (!(this->Voxel > 0.0) || !std::isfinite(this->Voxel))
     {
       return "the volume's spacing must be non-zero and finite";
@@ -68,13 +70,6 @@ struct VolumeRaySetup
     {
       return "unusable transfer function: " + error;
     }
-    vtkNew<vtkMatrix4x4> gridToWorld, start, inverse;
-    const int* extent = volume->GetExtent();
-    for (int a = 0; a < 3; ++a)
-    {
-      start->SetElement(a, 3, extent[2 * a]);
-    }
-    vtkMatrix4x4::Multiply4x4(volume->GetIndexToPhysicalMatrix(), start, gridToWorld);
     vtkMatrix4x4::Invert(gridToWorld, inverse);
     std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
     this->Adaptive = adaptive;
@@ -139,6 +134,19 @@ private:
   const VolumeRaySetup& Setup;
   const avos::numerics::TrilinearVolume<double, Storage> Volume;
 };
+
+// A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes
+// output.
+inline std::array<unsigned char, 4> ToBytes(const glm::dvec4& rgba)
+{
+  std::array<unsigned char, 4> bytes;
+  for (int k = 0; k < 4; ++k)
+  {
+    bytes[k] =
+      static_cast<unsigned char>(std::lround(255.0 * std::min(std::max(rgba[k], 0.0), 1.0)));
+  }
+  return bytes;
+}
 
 template <typename F>
 bool VolumeRaySetup::Dispatch(F&& f) const

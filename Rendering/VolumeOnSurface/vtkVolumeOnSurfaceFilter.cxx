@@ -67,7 +67,6 @@ public:
   // Per vertex and ray: the direction (world) and the integrated RGBA.
   std::vector<glm::fvec3> Directions;
   std::vector<glm::fvec4> Colors;
-  int RaysPerVertex = 0;
   // The surface with normals (the input's, or computed once per surface).
   vtkSmartPointer<vtkPolyData> WithNormals;
   vtkPolyData* NormalsSource = nullptr;
@@ -163,7 +162,8 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   vtkInternals& in = *this->Internals;
   this->NumberOfRaysCast = 0;
 
-  // Checks: a clear error and an empty output for each bad input.
+  // Checks: a clear error and an empty output for each bad input (the
+  // volume's own are VolumeRaySetup::Prepare's, below).
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro(<< "The surface (input 0) is empty.");
@@ -172,16 +172,6 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   if (!volume)
   {
     vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
-    return 1;
-  }
-  vtkDataArray* scalars = volume->GetPointData()->GetScalars();
-  int dims[3];
-  volume->GetDimensions(dims);
-  if (!scalars || scalars->GetNumberOfComponents() != 1 || dims[0] < 2 || dims[1] < 2 ||
-    dims[2] < 2)
-  {
-    vtkErrorMacro(<< "The volume needs single-component point scalars and at least 2 points "
-                     "along each axis.");
     return 1;
   }
   if (!this->VolumeProperty)
@@ -202,11 +192,6 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       vtkErrorMacro(<< "Opening angles must be in (0, 90] degrees, not " << a << ".");
       return 1;
     }
-  }
-  if (!(this->SampleDistance > 0.0) || !(this->Tolerance > 0.0))
-  {
-    vtkErrorMacro(<< "The sample distance and the tolerance must be positive.");
-    return 1;
   }
   if (!this->Camera)
   {
@@ -273,7 +258,6 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
       return 1;
     }
-    in.RaysPerVertex = raysPerVertex;
     in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
     const double sign = this->FlipNormals ? -1.0 : 1.0;
@@ -315,7 +299,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     };
     if (!setup.Dispatch(previsualize))
     {
-      vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
+      vtkErrorMacro(<< "Unsupported scalar type " << setup.Scalars->GetDataTypeAsString() << ".");
       return 1;
     }
     in.Key = key;
@@ -357,17 +341,10 @@ int vtkVolumeOnSurfaceFilter::RequestData(
             best = r;
           }
         }
-        unsigned char rgba[4] = { 0, 0, 0, 0 };
-        if (best >= 0)
-        {
-          const glm::fvec4 c = in.Colors[first + best];
-          for (int k = 0; k < 4; ++k)
-          {
-            rgba[k] = static_cast<unsigned char>(
-              std::lround(255.0f * std::min(std::max(c[k], 0.0f), 1.0f)));
-          }
-        }
-        colors->SetTypedTuple(v, rgba);
+        const std::array<unsigned char, 4> rgba = best >= 0
+          ? avos::ToBytes(glm::dvec4(in.Colors[first + best]))
+          : std::array<unsigned char, 4>{ { 0, 0, 0, 0 } };
+        colors->SetTypedTuple(v, rgba.data());
         chosen->SetValue(v, best);
       }
     });
@@ -377,7 +354,8 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   output->GetPointData()->AddArray(chosen);
 
   // The technique's memory (the paper's Table III).
-  this->VolumeMemory = static_cast<vtkIdType>(scalars->GetActualMemorySize()) * 1024;
+  this->VolumeMemory =
+    static_cast<vtkIdType>(volume->GetPointData()->GetScalars()->GetActualMemorySize()) * 1024;
   this->SurfaceMemory =
     static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
       normals->GetActualMemorySize() + withNormals->GetPolys()->GetActualMemorySize() +

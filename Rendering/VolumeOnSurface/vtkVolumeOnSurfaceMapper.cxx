@@ -27,7 +27,6 @@ namespace
 // of the same vertex on the full surface.
 struct Level
 {
-  double Reduction = 0.0;
   vtkSmartPointer<vtkPolyData> Surface;
   std::vector<vtkIdType> FullIds;
 };
@@ -184,7 +183,6 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     for (double r : in.Reductions)
     {
       Level level;
-      level.Reduction = r;
       if (r == 0.0)
       {
         level.Surface = surface;
@@ -309,12 +307,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
               continue;
             }
             const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(eye - point);
-            const glm::dvec4 c = caster.Cast(point, line, reach);
-            for (int k = 0; k < 4; ++k)
-            {
-              in.FullColors[full][k] =
-                static_cast<unsigned char>(std::lround(255.0 * std::min(std::max(c[k], 0.0), 1.0)));
-            }
+            in.FullColors[full] = avos::ToBytes(caster.Cast(point, line, reach));
             in.Known[full] = 1;
             ++localRays;
           }
