@@ -148,15 +148,26 @@ TEST(Statistics, StepsRecordedAndCounted)
   s.EarlyTermination = false;
   auto field = [](double t) { return 0.5 + 0.5 * std::sin(t); };
   const auto r = IntegrateAdaptive(field, tf, 20.0, s, &steps);
-  // The logged steps tile [0, D] without gaps.
+  // The logged steps tile [0, D] without gaps; their opacity grows to the
+  // ray's alpha.
   ASSERT_FALSE(steps.empty());
-  double t = 0;
+  double t = 0, opacity = 0;
   for (const auto& step : steps)
   {
     EXPECT_NEAR(step.Start, t, 1e-12);
+    EXPECT_GE(step.Opacity, opacity);
     t = step.Start + step.Length;
+    opacity = step.Opacity;
   }
   EXPECT_NEAR(t, 20.0, 1e-12);
+  EXPECT_DOUBLE_EQ(opacity, r.RGBA.a);
+  // Riemann logs its steps too.
+  steps.clear();
+  const Interval<double> whole{ 0.0, 20.0 };
+  const auto riemann =
+    IntegrateRiemann(field, tf, 20.0, 0.5, RiemannForm::Exponential, &whole, 1, 0.0, &steps);
+  ASSERT_EQ(steps.size(), 40u);
+  EXPECT_DOUBLE_EQ(steps.back().Opacity, riemann.RGBA.a);
   EXPECT_GT(r.Statistics.Accepted, 0);
   EXPECT_GE(r.Statistics.SmallestStep, s.MinimumStep);
   EXPECT_LE(r.Statistics.LargestStep, s.MaximumStep);

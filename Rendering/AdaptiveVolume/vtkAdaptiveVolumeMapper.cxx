@@ -2,6 +2,7 @@
 
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkMatrix4x4.h"
@@ -12,6 +13,7 @@
 #include "vtkRenderer.h"
 #include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
+#include "vtkTable.h"
 #include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -117,6 +119,52 @@ struct Method
   double TerminationBound = 0.0;
 };
 
+// Integrates the pixel's ray through the visible blocks (all of the box
+// without a map); `steps`, when given, receives the accepted outer steps.
+// False when the ray misses the volume's box.
+template <typename Storage>
+bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
+  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method, int x,
+  int y, Segments& segments, an::RayResult<double>& result,
+  std::vector<an::StepRecord<double>>* steps = nullptr)
+{
+  glm::dvec3 origin, direction;
+  double D;
+  if (!PixelRay(g, x, y, origin, direction, D))
+  {
+    return false;
+  }
+  if (map)
+  {
+    map->Segments(origin, direction, D, SegmentPad, segments);
+  }
+  else
+  {
+    segments.assign(1, { 0.0, D });
+  }
+  if (segments.empty())
+  {
+    return true;
+  }
+  const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ volume, origin,
+    direction };
+  switch (method.Kind)
+  {
+    case vtkAdaptiveVolumeMapper::RIEMANN:
+      result =
+        an::IntegrateRiemann(field, tf, D, method.SampleDistance, an::RiemannForm::Exponential,
+          segments.data(), segments.size(), method.TerminationBound, steps);
+      break;
+    case vtkAdaptiveVolumeMapper::REFERENCE:
+      result = an::IntegrateReference(field, tf, segments.data(), segments.size());
+      break;
+    default:
+      result =
+        an::IntegrateAdaptive(field, tf, segments.data(), segments.size(), method.Adaptive, steps);
+  }
+  return true;
+}
+
 template <typename Storage>
 class RayCaster
 {
@@ -164,43 +212,14 @@ public:
 private:
   void Cast(int x, int y, ThreadStatistics& stats, Segments& segments)
   {
-    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Width + x);
-    glm::dvec3 origin, direction;
-    double D;
-    if (!PixelRay(this->Geometry, x, y, origin, direction, D))
+    an::RayResult<double> result;
+    if (!IntegratePixel(this->Volume, this->Geometry, this->TF, this->Map, this->Settings, x, y,
+          segments, result))
     {
       return;
     }
     ++stats.Rays;
-    if (this->Map)
-    {
-      this->Map->Segments(origin, direction, D, SegmentPad, segments);
-    }
-    else
-    {
-      segments.assign(1, { 0.0, D });
-    }
-    if (segments.empty())
-    {
-      return;
-    }
-    const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ this->Volume, origin,
-      direction };
-    an::RayResult<double> result;
-    switch (this->Settings.Kind)
-    {
-      case vtkAdaptiveVolumeMapper::RIEMANN:
-        result = an::IntegrateRiemann(field, this->TF, D, this->Settings.SampleDistance,
-          an::RiemannForm::Exponential, segments.data(), segments.size(),
-          this->Settings.TerminationBound);
-        break;
-      case vtkAdaptiveVolumeMapper::REFERENCE:
-        result = an::IntegrateReference(field, this->TF, segments.data(), segments.size());
-        break;
-      default:
-        result = an::IntegrateAdaptive(
-          field, this->TF, segments.data(), segments.size(), this->Settings.Adaptive);
-    }
+    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Width + x);
     for (int c = 0; c < 4; ++c)
     {
       pixel[c] = static_cast<float>(result.RGBA[c]);
@@ -259,6 +278,10 @@ public:
   vtkMTimeType FrameClassifyTime = 0;
   vtkMTimeType FrameRangesTime = 0;
   bool HaveImage = false;
+  // What TraceRay re-casts: the last frame's data, method and map use.
+  vtkSmartPointer<vtkDataArray> FrameScalars;
+  Method FrameMethod;
+  bool FrameSkipping = false;
 
   FrameGeometry Geometry;
   vtkNew<vtkImageData> Image;
@@ -638,6 +661,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.FrameClassifyTime = internals.ClassifyTime.GetMTime();
     internals.FrameRangesTime = internals.RangesTime.GetMTime();
     internals.HaveImage = true;
+    internals.FrameScalars = scalars;
+    internals.FrameMethod = method;
+    internals.FrameSkipping = map != nullptr;
   }
 
   if (internals.DisplayHelper)
@@ -655,6 +681,70 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   timer->StopTimer();
   this->LastRenderTime = timer->GetElapsedTime();
+}
+
+bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
+{
+  if (!steps)
+  {
+    vtkErrorMacro(<< "TraceRay needs a table to fill.");
+    return false;
+  }
+  steps->Initialize();
+  vtkInternals& internals = *this->Internals;
+  const FrameGeometry& g = internals.Geometry;
+  if (!internals.HaveImage)
+  {
+    vtkErrorMacro(<< "TraceRay re-casts a pixel of the last render: there is none.");
+    return false;
+  }
+  if (internals.FrameMethod.Kind == REFERENCE)
+  {
+    vtkErrorMacro(<< "The reference method records no steps to trace.");
+    return false;
+  }
+  if (x < 0 || y < 0 || x >= g.Width || y >= g.Height)
+  {
+    vtkErrorMacro(<< "Pixel (" << x << ", " << y << ") is outside the " << g.Width << " x "
+                  << g.Height << " image.");
+    return false;
+  }
+  std::vector<an::StepRecord<double>> records;
+  an::RayResult<double> result;
+  Segments segments;
+  bool hit = false;
+  auto trace = [&](auto* data)
+  {
+    using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+    const an::TrilinearVolume<double, Storage> volume(data, g.Dimensions);
+    hit =
+      IntegratePixel(volume, g, internals.TF, internals.FrameSkipping ? &internals.Map : nullptr,
+        internals.FrameMethod, x, y, segments, result, &records);
+  };
+  vtkDataArray* scalars = internals.FrameScalars;
+  switch (scalars->GetDataType())
+  {
+    vtkTemplateMacro(trace(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+  }
+  const char* names[3] = { "Start", "Length", "Opacity" };
+  vtkNew<vtkDoubleArray> columns[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    columns[c]->SetName(names[c]);
+    columns[c]->SetNumberOfValues(static_cast<vtkIdType>(records.size()));
+  }
+  for (std::size_t i = 0; i < records.size(); ++i)
+  {
+    const auto row = static_cast<vtkIdType>(i);
+    columns[0]->SetValue(row, records[i].Start);
+    columns[1]->SetValue(row, records[i].Length);
+    columns[2]->SetValue(row, records[i].Opacity);
+  }
+  for (auto& column : columns)
+  {
+    steps->AddColumn(column);
+  }
+  return hit;
 }
 
 void vtkAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)

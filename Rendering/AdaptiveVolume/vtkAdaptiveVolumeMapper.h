@@ -49,6 +49,7 @@
 
 class vtkImageData;
 class vtkRayCastImageDisplayHelper;
+class vtkTable;
 
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT vtkAdaptiveVolumeMapper : public vtkVolumeMapper
 {
@@ -161,6 +162,18 @@ public:
    */
   vtkIdType GetNumberOfBlocks();
   vtkIdType GetNumberOfVisibleBlocks();
+
+  /**
+   * Casts pixel (x, y) of the last render again (its data, camera, method
+   * and transfer function) and fills `steps` with one row per accepted step
+   * of the outer integral: "Start" and "Length" along the ray, in voxel
+   * units from where it enters the volume's box, and "Opacity", the 1 - T
+   * reached at the step's end (the paper's Figure 6). Riemann gives its
+   * uniform steps. False, with an empty table, when there was no render, the
+   * method is the reference, the pixel is outside the image, or its ray
+   * misses the volume's box.
+   */
+  bool TraceRay(int x, int y, vtkTable* steps);
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;

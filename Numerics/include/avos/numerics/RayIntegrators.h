@@ -113,11 +113,14 @@ struct AdaptiveSettings
   }
 };
 
+// An accepted step of the outer integral, [Start, Start + Length], and the
+// opacity 1 - T the integration has reached at its end.
 template <typename Real>
 struct StepRecord
 {
   Real Start;
   Real Length;
+  Real Opacity;
 };
 
 template <typename Real>
@@ -130,18 +133,23 @@ struct RayStatistics
   Real LargestStep = Real(0);
   bool Terminated = false; // stopped early by the transmittance bound
   // When non-null, receives the accepted outer steps (the paper's Figure 6);
-  // IntegrateAdaptive's last argument.
+  // the last argument of IntegrateAdaptive and IntegrateRiemann.
   std::vector<StepRecord<Real>>* Steps = nullptr;
 
   long Attempts() const { return this->Accepted + this->Rejected; }
-  void Accept(Real t, Real h, bool outer)
+  void Accept(Real h)
   {
     ++this->Accepted;
     this->SmallestStep = std::min(this->SmallestStep, h);
     this->LargestStep = std::max(this->LargestStep, h);
-    if (outer && this->Steps)
+  }
+  // An accepted outer step, ending at the given opacity.
+  void Accept(Real t, Real h, Real opacity)
+  {
+    this->Accept(h);
+    if (this->Steps)
     {
-      this->Steps->push_back({ t, h });
+      this->Steps->push_back({ t, h, opacity });
     }
   }
 };
@@ -478,9 +486,10 @@ Real TotalLength(const Interval<Real>* segments, std::size_t count)
 template <typename Real, typename Field>
 RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real>& tf, Real D,
   Real h, RiemannForm form, const Interval<Real>* segments, std::size_t count,
-  Real terminationBound = Real(0))
+  Real terminationBound = Real(0), std::vector<StepRecord<Real>>* steps = nullptr)
 {
   RayResult<Real> result;
+  result.Statistics.Steps = steps;
   result.Error = detail::ValidateRay(tf, D, h);
   if (result.Error.empty())
   {
@@ -514,7 +523,7 @@ RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real
         form == RiemannForm::Linear ? std::min(s.Tau * dt, Real(1)) : -std::expm1(-s.Tau * dt);
       color += T * a * s.Color;
       T *= Real(1) - a;
-      result.Statistics.Accept(t0, dt, true);
+      result.Statistics.Accept(t0, dt, Real(1) - T);
       if (T <= bound)
       {
         result.Statistics.Terminated = next < n;
@@ -557,7 +566,7 @@ RayResult<Real> IntegrateSimpson(
     // Plain composite Simpson with step k / 2, without Richardson's correction.
     color += b.Outer(theta).D;
     theta += b.Inner().D;
-    result.Statistics.Accept(b.U, k, true);
+    result.Statistics.Accept(b.U, k, -std::expm1(-theta));
     b.S[0] = b.S[4];
   }
   result.RGBA = glm::vec<4, Real>(color, -std::expm1(-theta));
@@ -642,7 +651,7 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
         });
       const Real h = in.K;
       const Real tEnd = in.K == remaining ? D : t + h;
-      stats.Accept(t, h, false);
+      stats.Accept(h);
       Real innerValue = std::max(innerPair.Corrected(), Real(0));
       if (innerForced)
       {
@@ -656,7 +665,8 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
       {
         if (stats.Steps)
         {
-          stats.Steps->push_back({ t, h }); // no outer pass: the inner step is the step
+          // No outer pass: the inner step is the step.
+          stats.Steps->push_back({ t, h, -std::expm1(-(theta + innerValue)) });
         }
       }
       else
@@ -699,7 +709,7 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
             thetaU += std::max(out.Inner().Corrected(), Real(0));
           }
           const Real uEnd = out.K == tEnd - u ? tEnd : u + out.K;
-          stats.Accept(u, out.K, true);
+          stats.Accept(u, out.K, -std::expm1(-thetaU));
           outer.Succeeded();
           u = uEnd;
           out.S[0] = out.S[4];

@@ -22,7 +22,9 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
+#include "vtkTable.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkVariant.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -173,6 +175,48 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   Expect(!scene.Mapper->GetLastRenderReused(), "a camera change casts again");
   scene.Renderer->GetActiveCamera()->Azimuth(-1.0);
   Expect(MaxDifference(scene.Render(), reference) < 1e-7, "back to the first frame");
+
+  // TraceRay re-casts a pixel: its steps tile the ray and end at the pixel's
+  // alpha; for Riemann they are uniform; off-image pixels are refused.
+  for (int method : { vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, vtkAdaptiveVolumeMapper::RIEMANN })
+  {
+    scene.Mapper->SetIntegrationMethod(method);
+    vtkSmartPointer<vtkFloatArray> image = scene.Render();
+    const int x = Size / 2, y = Size / 2;
+    vtkNew<vtkTable> steps;
+    const std::string name = scene.Mapper->GetIntegrationMethodAsString();
+    Expect(scene.Mapper->TraceRay(x, y, steps) && steps->GetNumberOfRows() > 3,
+      name + ": the centre ray has steps");
+    const vtkIdType rows = steps->GetNumberOfRows();
+    bool tiled = rows > 0, uniform = true;
+    for (vtkIdType r = 1; r < rows; ++r)
+    {
+      const double end = steps->GetValueByName(r - 1, "Start").ToDouble() +
+        steps->GetValueByName(r - 1, "Length").ToDouble();
+      tiled = tiled && steps->GetValueByName(r, "Start").ToDouble() >= end - 1e-9 &&
+        steps->GetValueByName(r, "Opacity").ToDouble() >=
+          steps->GetValueByName(r - 1, "Opacity").ToDouble();
+      uniform = uniform &&
+        (r + 1 == rows || std::abs(steps->GetValueByName(r, "Length").ToDouble() - 0.5) < 1e-12);
+    }
+    Expect(tiled, name + ": the steps follow one another with growing opacity");
+    Expect(rows > 0 &&
+        std::abs(steps->GetValueByName(rows - 1, "Opacity").ToDouble() -
+          image->GetComponent(y * Size + x, 3)) < 1e-6,
+      name + ": the last step's opacity is the pixel's alpha");
+    if (method == vtkAdaptiveVolumeMapper::RIEMANN)
+    {
+      Expect(uniform, "Riemann's steps are the sample distance");
+    }
+  }
+  {
+    vtkNew<vtkTable> steps;
+    avostest::ExpectedErrors errors(scene.Mapper);
+    Expect(!scene.Mapper->TraceRay(Size, 0, steps) && steps->GetNumberOfColumns() == 0 &&
+        errors.Check("off-image trace", "outside the"),
+      "an off-image pixel is refused");
+  }
+  scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
 
   // Empty-space skipping: a Riemann sum is the same, pixel for pixel.
   scene.Mapper->SetIntegrationMethodToRiemann();
