@@ -44,6 +44,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -57,14 +58,15 @@ namespace paper = avos::paper;
 
 const char* Usage =
   "usage: avos-bench [--data DIR] [--datasets NAME,...] [--size WxH] [--frames N]\n"
-  "                  [--threads N] [--output DIR] [--trace X,Y] [--quick]\n"
+  "                  [--threads N] [--output DIR] [--trace X,Y] [--quick] [--replot]\n"
   "--data: the shared data folder (default ../shared/data).\n"
   "--datasets: any of BluntFin, Bonsai, Engine, Foot (default all four).\n"
   "--size: image size (default 800x600). --frames: timed frames per run, after\n"
   "one untimed warm-up frame (default 3; the median is reported).\n"
   "--trace: the pixel whose ray Figure 6 follows (default: chosen on Bonsai).\n"
   "--quick: BluntFin and Bonsai at 96x72, one frame, no warm-up (for CI).\n"
-  "--output: the results folder (default out/bench).\n";
+  "--output: the results folder (default out/bench).\n"
+  "--replot: no rendering; redraw the plots from the CSV files in --output.\n";
 
 struct Dataset
 {
@@ -94,6 +96,7 @@ struct Options
   std::string Output = "out/bench";
   int TraceX = -1;
   int TraceY = -1;
+  bool Replot = false;
 };
 
 struct Run
@@ -190,9 +193,9 @@ std::string Parse(int argc, char* argv[], Options& o)
     {
       return "help";
     }
-    if (arg == "--quick")
+    if (arg == "--quick" || arg == "--replot")
     {
-      quick = true;
+      (arg == "--quick" ? quick : o.Replot) = true;
       continue;
     }
     if (i + 1 >= argc)
@@ -741,6 +744,127 @@ bool WritePlots(const Options& o, const std::vector<Run>& runs, const std::vecto
   }
   return ok;
 }
+// The fields of one CSV line; quoted fields may hold commas.
+std::vector<std::string> SplitCSV(const std::string& line)
+{
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (char c : line)
+  {
+    if (c == '"')
+    {
+      quoted = !quoted;
+    }
+    else if (c == ',' && !quoted)
+    {
+      fields.emplace_back();
+    }
+    else
+    {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+// Rows of a CSV file as name -> value maps; empty when it cannot be read.
+std::vector<std::map<std::string, std::string>> ReadCSV(const std::string& path)
+{
+  std::vector<std::map<std::string, std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  if (!std::getline(in, line))
+  {
+    std::cerr << "error: cannot read '" << path << "'\n";
+    return rows;
+  }
+  const std::vector<std::string> header = SplitCSV(line);
+  while (std::getline(in, line))
+  {
+    const std::vector<std::string> fields = SplitCSV(line);
+    if (fields.size() != header.size())
+    {
+      std::cerr << "error: '" << path << "' has a malformed line: " << line << "\n";
+      return {};
+    }
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size(); ++i)
+    {
+      row[header[i]] = fields[i];
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The runs, histograms and traces of an earlier run, from its CSV files.
+bool ReadResults(Options& o, std::vector<Run>& runs, std::vector<Trace>& traces)
+{
+  auto number = [](const std::string& text) { return std::strtod(text.c_str(), nullptr); };
+  o.Names.clear();
+  for (const auto& row : ReadCSV(o.Output + "/results.csv"))
+  {
+    Run run;
+    run.Dataset = row.at("dataset");
+    run.Family = row.at("family");
+    app::MethodSettings& s = run.Settings;
+    s.Method = row.at("method");
+    s.Tolerance = number(row.at("tolerance"));
+    s.Step = number(row.at("step"));
+    s.H0 = number(row.at("h0"));
+    s.HMin = number(row.at("hmin"));
+    s.HMax = number(row.at("hmax"));
+    run.Median = number(row.at("median_s"));
+    run.Minimum = number(row.at("min_s"));
+    run.SamplesPerRay = number(row.at("samples_per_ray"));
+    run.Error.Pixels = std::atol(row.at("pixels").c_str());
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      const std::string c(1, Channels[ch]);
+      run.Error.Exceeding[0][ch] = number(row.at(c + "_gt_0.01"));
+      run.Error.Exceeding[1][ch] = number(row.at(c + "_gt_0.005"));
+      run.Error.Exceeding[2][ch] = number(row.at(c + "_gt_0.001"));
+      run.Error.Mean[ch] = number(row.at(c + "_mean"));
+      run.Error.Maximum[ch] = number(row.at(c + "_max"));
+      run.Error.Percentile999[ch] = number(row.at(c + "_p99.9"));
+    }
+    run.Failed = !std::isfinite(run.Median);
+    if (std::find(o.Names.begin(), o.Names.end(), run.Dataset) == o.Names.end())
+    {
+      o.Names.push_back(run.Dataset);
+    }
+    runs.push_back(run);
+  }
+  for (const auto& row : ReadCSV(o.Output + "/histograms.csv"))
+  {
+    for (Run& run : runs)
+    {
+      if (run.Dataset == row.at("dataset") && run.Family == row.at("family") &&
+        run.Settings.Label() == row.at("run"))
+      {
+        const int ch = static_cast<int>(std::string(Channels).find(row.at("channel")));
+        const double lower = number(row.at("bin_lower"));
+        int bin = 0;
+        while (bin + 1 < app::ImageError::Bins && app::ImageError::BinLowerEdge(bin + 1) <= lower)
+        {
+          ++bin;
+        }
+        run.Error.Histogram[ch][bin] = std::atol(row.at("count").c_str());
+      }
+    }
+  }
+  for (const auto& row : ReadCSV(o.Output + "/steps.csv"))
+  {
+    if (traces.empty() || traces.back().Label != row.at("run"))
+    {
+      traces.push_back(Trace{ row.at("run"), {}, {}, {} });
+    }
+    traces.back().Start.push_back(number(row.at("start")));
+    traces.back().Length.push_back(number(row.at("length")));
+    traces.back().Opacity.push_back(number(row.at("opacity")));
+  }
+  return !runs.empty();
+}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -756,6 +880,17 @@ int main(int argc, char* argv[])
   {
     std::cerr << "error: " << problem << "\n" << Usage;
     return 2;
+  }
+  if (o.Replot)
+  {
+    std::vector<Run> runs;
+    std::vector<Trace> traces;
+    if (!ReadResults(o, runs, traces))
+    {
+      std::cerr << "error: no results to plot in '" << o.Output << "'\n";
+      return EXIT_FAILURE;
+    }
+    return WritePlots(o, runs, traces) ? EXIT_SUCCESS : EXIT_FAILURE;
   }
   if (o.Threads > 0)
   {

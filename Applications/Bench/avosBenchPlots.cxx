@@ -104,8 +104,11 @@ bool WriteCharts(
   const int rows = (static_cast<int>(charts.size()) + columns - 1) / columns;
   vtkNew<vtkChartMatrix> matrix;
   matrix->SetSize(vtkVector2i(columns, rows));
-  // Room between the charts for the titles of the ones below.
+  // Room between the charts for the titles of the ones below, and at the
+  // left for a rotated axis title beside wide tick labels (the automatic
+  // layout leaves it outside the image).
   matrix->SetGutter(vtkVector2f(60.0f, 70.0f));
+  matrix->SetBorders(90, 50, 20, 40);
   view->GetScene()->AddItem(matrix);
   for (std::size_t i = 0; i < charts.size(); ++i)
   {

@@ -118,6 +118,16 @@ for h in ("0.5", "0.4", "0.3", "0.2", "0.1"):
 for figure in ("(12.7660)", "(44.7088)", "(38.19)", "(26.77)", "(0.4738)"):
     check(figure in report, "the paper's figure " + figure + " is in the report")
 
+# --replot draws the plots again from the CSV files, without rendering.
+for name in ("steps.png", "time-error-Bonsai.png", "histograms-BluntFin.png"):
+    os.remove(os.path.join(SCRATCH, name))
+code, out = run("--replot", "--output", SCRATCH)
+check(code == 0 and all(os.path.getsize(os.path.join(SCRATCH, name)) > 1000 for name in
+                        ("steps.png", "time-error-Bonsai.png", "histograms-BluntFin.png")),
+      "--replot redraws the plots: " + out[-500:])
+code, out = run("--replot", "--output", os.path.join(SCRATCH, "nothing"))
+check(code != 0 and "no results" in out, "--replot without results is refused: " + out[-300:])
+
 # Bad command lines.
 for args, message in [(["--datasets", "Teapot"], "unknown dataset"),
                       (["--size", "80"], "--size needs"),
