@@ -2,15 +2,16 @@
 writes the image and the report it was asked for; an EXR keeps float RGBA;
 bad command lines and unreadable inputs fail with a message, not a crash.
 
-    python3 TestAvosRender.py AVOS_RENDER SHARED_DATA_DIR SCRATCH_DIR
+    python3 TestAvosRender.py AVOS_RENDER SHARED_DATA_DIR SCRATCH_DIR AVOS_COMPARE
 """
 
 import json
+import math
 import os
 import subprocess
 import sys
 
-EXE, DATA, SCRATCH = sys.argv[1:4]
+EXE, DATA, SCRATCH, COMPARE = sys.argv[1:5]
 VOLUME = os.path.join(DATA, "volumes", "Neghip.1.64x64x64.raw")
 TF = os.path.join(DATA, "tf", "BluntFin.1.256x128x64.linear.tf1d")
 failures = []
@@ -105,6 +106,33 @@ if code == 0:
     c = json.load(open(report))["compare"]
     check(c["pixels"] > 0 and all(0.0 < v <= 1.0 for v in c["ssim_rgba"]) and
           all(v is None or v > 20.0 for v in c["psnr_rgba"]), "compare figures: %r" % c)
+
+# avos-compare: the same PSNR and SSIM as --compare; its PSNR over all
+# channels agrees with OpenImageIO's own (oiiotool --diff); identical images
+# give an infinite PSNR and an SSIM of 1; shapes that differ are refused.
+riemann = os.path.join(SCRATCH, "riemann-step1.exr")
+run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "riemann", "--step", "1", "--output", riemann)
+result = subprocess.run([COMPARE, riemann, reference, "--json"], capture_output=True, text=True)
+check(result.returncode == 0, "avos-compare runs: " + result.stderr)
+if result.returncode == 0 and code == 0:
+    m = json.loads(result.stdout)
+    c = json.load(open(report))["compare"]
+    check(m["channels"] == 4 and all(abs(a - b) < 1e-3 for a, b in zip(m["ssim"], c["ssim_rgba"])),
+          "avos-compare's SSIM is --compare's: %r %r" % (m["ssim"], c["ssim_rgba"]))
+    mse = sum(10 ** (-p / 10) for p in m["psnr"] if p != "inf") / 4
+    diff = subprocess.run(["oiiotool", riemann, reference, "--diff"], capture_output=True,
+                          text=True).stdout
+    peak = [float(line.split("=")[1]) for line in diff.splitlines() if "Peak SNR" in line]
+    check(len(peak) == 1 and abs(10 * math.log10(1 / mse) - peak[0]) < 0.01,
+          "PSNR agrees with oiiotool --diff: %r vs %r" % (10 * math.log10(1 / mse), peak))
+same = subprocess.run([COMPARE, reference, reference, "--json"], capture_output=True, text=True)
+check(same.returncode == 0 and json.loads(same.stdout)["psnr"] == ["inf"] * 4 and
+      json.loads(same.stdout)["ssim"] == [1.0] * 4, "identical images: " + same.stdout)
+png = os.path.join(SCRATCH, "riemann.png")
+for args, what in [([riemann, png], "differ in shape"), ([riemann, os.path.join(SCRATCH, "no.exr")],
+                                                         "cannot read"), ([riemann], "usage")]:
+    bad = subprocess.run([COMPARE, *args], capture_output=True, text=True)
+    check(bad.returncode != 0 and what in bad.stderr, "avos-compare refuses %r: %s" % (args, bad.stderr))
 
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
