@@ -1,11 +1,16 @@
 #include "vtkVolumeOnSurfaceMapper.h"
 
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenMeshDecimation.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -110,6 +115,31 @@ void vtkVolumeOnSurfaceMapper::RemoveAllLevelOfDetailReductions()
   this->Internals->Reductions.clear();
   this->Internals->Levels.clear();
   this->Modified();
+}
+
+vtkIdType vtkVolumeOnSurfaceMapper::GetVolumeMemory()
+{
+  auto* volume = this->GetNumberOfInputConnections(1) > 0
+    ? vtkImageData::SafeDownCast(this->GetInputDataObject(1, 0))
+    : nullptr;
+  vtkDataArray* scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
+  // GetActualMemorySize() is in KiB.
+  return scalars ? static_cast<vtkIdType>(scalars->GetActualMemorySize()) * 1024 : 0;
+}
+
+vtkIdType vtkVolumeOnSurfaceMapper::GetSurfaceMemory(int level)
+{
+  const std::vector<Level>& levels = this->Internals->Levels;
+  if (level < 0 || level >= static_cast<int>(levels.size()))
+  {
+    return 0;
+  }
+  vtkPolyData* s = levels[static_cast<std::size_t>(level)].Surface;
+  vtkDataArray* normals = s->GetPointData()->GetNormals();
+  return static_cast<vtkIdType>(s->GetPoints()->GetData()->GetActualMemorySize() +
+           (normals ? normals->GetActualMemorySize() : 0) + s->GetPolys()->GetActualMemorySize()) *
+    1024 +
+    4 * s->GetNumberOfPoints();
 }
 
 int vtkVolumeOnSurfaceMapper::GetNumberOfLevelsOfDetail()

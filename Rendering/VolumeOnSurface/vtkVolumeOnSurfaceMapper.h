@@ -110,6 +110,17 @@ public:
   vtkGetMacro(ColoringTime, double);
   ///@}
 
+  ///@{
+  /**
+   * Memory of the technique's structures, in bytes (the paper's Tables III
+   * and IV): the volume's scalars, and the surface of one level of detail
+   * (points, normals, triangles and one RGBA colour per vertex). 0 before the
+   * first render built the levels, or for a level that does not exist.
+   */
+  vtkIdType GetVolumeMemory();
+  vtkIdType GetSurfaceMemory(int level);
+  ///@}
+
   /**
    * The surface drawn by the last render (the chosen level of detail) with
    * its "VoSColors" (unsigned char RGBA) and, for decimated levels,

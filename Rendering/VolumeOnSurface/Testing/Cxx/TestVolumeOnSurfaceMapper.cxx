@@ -105,6 +105,17 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     "a coarser level reuses the colours");
   mapper->SetLevelOfDetail(0);
 
+  // Memory (Tables III, IV): the short scalars, and surfaces that shrink
+  // with the levels' decimation.
+  Expect(mapper->GetVolumeMemory() >= 33 * 33 * 33 * 2 &&
+      mapper->GetVolumeMemory() < 33 * 33 * 33 * 2 + 4096,
+    "volume memory is its scalars");
+  Expect(mapper->GetSurfaceMemory(0) > 1.5 * mapper->GetSurfaceMemory(1) &&
+      mapper->GetSurfaceMemory(1) > mapper->GetSurfaceMemory(2) &&
+      mapper->GetSurfaceMemory(2) > 0 && mapper->GetSurfaceMemory(3) == 0 &&
+      mapper->GetSurfaceMemory(-1) == 0,
+    "surface memory shrinks with decimation; none for missing levels");
+
   // Zoomed in: off-screen vertices cost nothing.
   camera->SetParallelScale(0.4);
   window->Render();
