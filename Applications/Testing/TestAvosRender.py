@@ -7,6 +7,7 @@ bad command lines and unreadable inputs fail with a message, not a crash.
 
 import json
 import math
+import struct
 import os
 import subprocess
 import sys
@@ -85,10 +86,46 @@ if vtkMetaImageWriter is not None:
     writer.SetCompression(False)
     writer.Write()
     inputs.append(mhd)
+# A DICOM folder: Neghip as 64 CT slices of 16-bit pixels, written with
+# pydicom; it must render exactly as the NRRD of the same voxels.
+from pydicom.dataset import Dataset, FileMetaDataset
+from pydicom.uid import CTImageStorage, ExplicitVRLittleEndian, generate_uid
+dicom = os.path.join(SCRATCH, "neghip-dicom")
+os.makedirs(dicom, exist_ok=True)
+voxels = open(VOLUME, "rb").read()
+study, series = generate_uid(), generate_uid()
+for k in range(64):
+    meta = FileMetaDataset()
+    meta.MediaStorageSOPClassUID = CTImageStorage
+    meta.MediaStorageSOPInstanceUID = generate_uid()
+    meta.TransferSyntaxUID = ExplicitVRLittleEndian
+    ds = Dataset()
+    ds.file_meta = meta
+    ds.is_little_endian, ds.is_implicit_VR = True, False
+    ds.SOPClassUID, ds.SOPInstanceUID = CTImageStorage, meta.MediaStorageSOPInstanceUID
+    ds.StudyInstanceUID, ds.SeriesInstanceUID = study, series
+    ds.Modality, ds.PatientName, ds.PatientID = "CT", "AVoS^Test", "0"
+    ds.InstanceNumber = k + 1
+    ds.ImagePositionPatient = [0, 0, k]
+    ds.ImageOrientationPatient = [1, 0, 0, 0, 1, 0]
+    ds.PixelSpacing, ds.SliceThickness = [1, 1], 1
+    ds.Rows = ds.Columns = 64
+    ds.SamplesPerPixel, ds.PhotometricInterpretation = 1, "MONOCHROME2"
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 0
+    ds.RescaleIntercept, ds.RescaleSlope = 0, 1
+    # vtkDICOMImageReader puts the last row and the last slice first: store
+    # both reversed so that it reads back exactly the raw volume.
+    z = 63 - k
+    rows = [voxels[4096 * z + 64 * (63 - j):4096 * z + 64 * (64 - j)] for j in range(64)]
+    ds.PixelData = struct.pack("<4096H", *b"".join(rows))
+    ds.save_as(os.path.join(dicom, "slice%03d.dcm" % k), write_like_original=False)
+inputs.append(dicom)
+
 reference_output = None
 for path in inputs:
     report = path + ".json"
-    code, out = run(path, "--tf", TF, "--size", "32x24", "--report", report)
+    code, out = run(path, "--tf", TF, "--size", "32x24", "--azimuth", "30", "--elevation", "20",
+                    "--report", report, "--output", path + ".exr")
     check(code == 0 and os.path.exists(report), "reads " + path + ": " + out)
     if code == 0:
         rays = json.load(open(report))["rays_cast"]
@@ -106,6 +143,11 @@ if code == 0:
     c = json.load(open(report))["compare"]
     check(c["pixels"] > 0 and all(0.0 < v <= 1.0 for v in c["ssim_rgba"]) and
           all(v is None or v > 20.0 for v in c["psnr_rgba"]), "compare figures: %r" % c)
+
+same = subprocess.run([COMPARE, dicom + ".exr", nhdr + ".exr", "--json"], capture_output=True,
+                      text=True)
+check(same.returncode == 0 and json.loads(same.stdout)["max_error"] == [0.0] * 4,
+      "the DICOM folder renders exactly as the NRRD: " + same.stdout + same.stderr)
 
 # avos-compare: the same PSNR and SSIM as --compare; its PSNR over all
 # channels agrees with OpenImageIO's own (oiiotool --diff); identical images
