@@ -10,11 +10,13 @@
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkSMPTools.h"
 #include "vtkType.h"
 
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
+#include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
@@ -24,6 +26,7 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 namespace avos
 {
@@ -39,6 +42,9 @@ struct VolumeRaySetup
   double SampleDistance = 0.5;
   avos::numerics::AdaptiveSettings<double> Settings;
   vtkDataArray* Scalars = nullptr;
+  // The blocks the transfer function leaves visible (EmptySpaceCache), or
+  // null to integrate every ray over its whole length.
+  const avos::numerics::EmptySpaceMap<double>* Map = nullptr;
 
   // Empty, or why the volume or the property cannot be used.
   std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
@@ -117,22 +123,82 @@ public:
       return glm::dvec4(0.0);
     }
     const double D = t1 - t0;
+    const glm::dvec3 origin = start + t1 * step;
     const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>> field{
-      this->Volume, start + t1 * step, -step
+      this->Volume, origin, -step
     };
+    // Only the parts of the ray in visible blocks: a Riemann sum over them is
+    // the full sum exactly, the adaptive rule keeps its bound (RayIntegrators.h).
+    thread_local std::vector<avos::numerics::Interval<double>> segments;
+    if (this->Setup.Map)
+    {
+      this->Setup.Map->Segments(origin, -step, D, 1e-6, segments);
+      if (segments.empty())
+      {
+        return glm::dvec4(0.0);
+      }
+    }
+    else
+    {
+      segments.assign(1, { 0.0, D });
+    }
     if (this->Setup.Adaptive)
     {
-      return avos::numerics::IntegrateAdaptive(field, this->Setup.TF, D, this->Setup.Settings).RGBA;
+      return avos::numerics::IntegrateAdaptive(
+        field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings)
+        .RGBA;
     }
-    const avos::numerics::Interval<double> whole{ 0.0, D };
     return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
-      avos::numerics::RiemannForm::Exponential, &whole, 1, 0.2 * this->Setup.Settings.Tolerance)
+      avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),
+      0.2 * this->Setup.Settings.Tolerance)
       .RGBA;
   }
 
 private:
   const VolumeRaySetup& Setup;
   const avos::numerics::TrilinearVolume<double, Storage> Volume;
+};
+
+// The volume's empty-space map, kept across executions by both classes: the
+// blocks' scalar ranges are rebuilt only when the scalars change, their
+// visibility (one pass over the blocks) on every Update.
+class EmptySpaceCache
+{
+public:
+  // The map for the prepared setup's volume and transfer function.
+  const avos::numerics::EmptySpaceMap<double>* Update(const VolumeRaySetup& setup)
+  {
+    const std::array<int, 3> dimensions{ { setup.Dimensions[0], setup.Dimensions[1],
+      setup.Dimensions[2] } };
+    vtkDataArray* scalars = setup.Scalars;
+    if (scalars != this->Scalars || scalars->GetMTime() != this->Time ||
+      dimensions != this->Dimensions)
+    {
+      this->Map.SetDimensions(setup.Dimensions);
+      auto ranges = [this](const auto* data)
+      {
+        vtkSMPTools::For(0, this->Map.GetNumberOfBlocks(2),
+          [&](int begin, int end) { this->Map.ComputeRanges(data, begin, end); });
+      };
+      switch (scalars->GetDataType())
+      {
+        vtkTemplateMacro(ranges(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+        default:
+          return nullptr;
+      }
+      this->Scalars = scalars;
+      this->Time = scalars->GetMTime();
+      this->Dimensions = dimensions;
+    }
+    this->Map.Classify(setup.TF);
+    return &this->Map;
+  }
+
+private:
+  avos::numerics::EmptySpaceMap<double> Map;
+  vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
+  vtkMTimeType Time = 0;
+  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
 };
 
 // A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes

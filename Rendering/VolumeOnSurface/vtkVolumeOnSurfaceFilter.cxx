@@ -36,6 +36,7 @@ struct PrevisualizationKey
   double SampleDistance = 0.0;
   double Tolerance = 0.0;
   bool Extinction = false;
+  bool Skipping = false;
   vtkMTimeType Surface = 0;
   vtkMTimeType Volume = 0;
   vtkMTimeType Property = 0;
@@ -45,7 +46,8 @@ struct PrevisualizationKey
     return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone && this->Flip == o.Flip &&
       this->Method == o.Method && this->SampleDistance == o.SampleDistance &&
       this->Tolerance == o.Tolerance && this->Extinction == o.Extinction &&
-      this->Surface == o.Surface && this->Volume == o.Volume && this->Property == o.Property;
+      this->Skipping == o.Skipping && this->Surface == o.Surface && this->Volume == o.Volume &&
+      this->Property == o.Property;
   }
 };
 
@@ -64,6 +66,7 @@ public:
   std::vector<double> Angles{ 20.0, 45.0, 70.0 };
   PrevisualizationKey Key;
   bool HaveRays = false;
+  avos::EmptySpaceCache EmptySpace;
   // Per vertex and ray: the direction (world) and the integrated RGBA.
   std::vector<glm::fvec3> Directions;
   std::vector<glm::fvec4> Colors;
@@ -244,6 +247,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   key.SampleDistance = this->SampleDistance;
   key.Tolerance = this->Tolerance;
   key.Extinction = this->ExtinctionOpacity != 0;
+  key.Skipping = this->EmptySpaceSkipping != 0;
   key.Surface = surface->GetMTime();
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
@@ -258,6 +262,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
       return 1;
     }
+    setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
     in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
     const double sign = this->FlipNormals ? -1.0 : 1.0;
@@ -381,6 +386,7 @@ void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
   os << indent << "Camera: " << this->Camera << "\n";
   os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";

@@ -141,6 +141,17 @@ public:
   vtkBooleanMacro(ExtinctionOpacity, vtkTypeBool);
   ///@}
 
+  ///@{
+  /**
+   * Integrate each ray only through the 8^3-cell blocks the transfer function
+   * leaves visible (default on), as vtkAdaptiveVolumeMapper does: a Riemann
+   * sum is unchanged to the bit, the adaptive rule keeps its bound.
+   */
+  vtkSetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkGetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkBooleanMacro(EmptySpaceSkipping, vtkTypeBool);
+  ///@}
+
   /**
    * Rays cast by the last execution: 0 when only the colours were assigned.
    */
@@ -175,6 +186,7 @@ protected:
   double SampleDistance = 0.5;
   double Tolerance = 0.01;
   vtkTypeBool ExtinctionOpacity = 0;
+  vtkTypeBool EmptySpaceSkipping = 1;
   vtkIdType NumberOfRaysCast = 0;
   vtkIdType VolumeMemory = 0;
   vtkIdType SurfaceMemory = 0;

@@ -43,7 +43,7 @@ struct ViewKey
   std::array<double, 3> Eye{};
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
-  std::array<double, 4> Integration{}; // adaptive, step, tolerance, extinction
+  std::array<double, 5> Integration{}; // adaptive, step, tolerance, extinction, skipping
 
   bool operator==(const ViewKey& o) const
   {
@@ -70,6 +70,7 @@ public:
   std::vector<unsigned char> Known;
   int DrawnLevel = -1;
   double SecondsPerRay = 0.0;
+  avos::EmptySpaceCache EmptySpace;
 
   vtkNew<vtkPolyData> Drawn;
   vtkSmartPointer<vtkPolyDataMapper> Delegate;
@@ -277,7 +278,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->Adaptive), this->SampleDistance, this->Tolerance,
-    double(this->ExtinctionOpacity) };
+    double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping) };
   if (!in.HaveKey || !(key == in.Key))
   {
     in.FullColors.assign(static_cast<std::size_t>(surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
@@ -298,6 +299,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       in.HaveKey = false;
       return;
     }
+    setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
     double direction[3];
     camera->GetDirectionOfProjection(direction);
     const glm::dvec3 eye(key.Eye[0], key.Eye[1], key.Eye[2]);
@@ -388,6 +390,7 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "LevelOfDetailReductions:";
   for (double r : this->Internals->Reductions)
   {

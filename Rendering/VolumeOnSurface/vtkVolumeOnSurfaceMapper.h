@@ -81,6 +81,16 @@ public:
 
   ///@{
   /**
+   * Integrate each ray only through the blocks the transfer function leaves
+   * visible (default on), as vtkVolumeOnSurfaceFilter does.
+   */
+  vtkSetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkGetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkBooleanMacro(EmptySpaceSkipping, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
    * Decimation of each level of detail (fractions of triangles removed,
    * finest first). Default 0, 0.5, 0.9.
    */
@@ -142,6 +152,7 @@ protected:
   double SampleDistance = 0.5;
   double Tolerance = 0.01;
   vtkTypeBool ExtinctionOpacity = 0;
+  vtkTypeBool EmptySpaceSkipping = 1;
   int LevelOfDetail = -1;
   int LastLevelOfDetail = -1;
   vtkIdType NumberOfRaysCast = 0;
