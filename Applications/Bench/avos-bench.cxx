@@ -16,9 +16,10 @@
 // did); "vtk" converts it to VTK's opacity semantics so that VTK's mappers
 // and ours render the same integral side by side.
 //
-// C++ rather than a script over avos-render: one process keeps the volume
-// and the window, the runs use the very classes a user calls, and the plots
-// come from VTK's charts, so the tool needs nothing VTK does not have.
+// C++ rather than a script over avos-render: one process reads each volume
+// once, the runs use the very classes a user calls (each in a window of its
+// own), and the plots come from VTK's charts, so the tool needs nothing VTK
+// does not have.
 #include "avosBenchPlots.h"
 #include "avosPaperTables.h"
 #include "avosRenderSession.h"
