@@ -15,11 +15,13 @@
 #include "vtkPlaneSource.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 #include "vtkVolumeOnSurfaceFilter.h"
 #include "vtkVolumeProperty.h"
 
 #include "avosTestHelpers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -120,6 +122,42 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   Expect(vos->GetConesMemory() == 81 * 12 * (3 + 4) * 4, "cones memory");
   Expect(vos->GetVolumeMemory() >= 33 * 33 * 33, "volume memory");
   camera->SetPosition(0, 0, 5);
+
+  // Empty-space skipping: with the top of the volume transparent,
+  // toggling it casts again and changes no Levoy colour.
+  {
+    auto* scalars = volume->GetPointData()->GetScalars();
+    for (vtkIdType i = 0; i < scalars->GetNumberOfTuples(); ++i)
+    {
+      double p[3];
+      volume->GetPoint(i, p);
+      scalars->SetTuple1(i, p[2] > 0.4 ? 0 : 100); // the top block row is empty
+    }
+    scalars->Modified();
+    opacity->RemoveAllPoints();
+    opacity->AddPoint(0, 0);
+    opacity->AddPoint(40, 0);
+    opacity->AddPoint(100, tau);
+    vos->SetIntegrationMethodToLevoy();
+    vos->EmptySpaceSkippingOn();
+    vos->Update();
+    auto copy = vtkSmartPointer<vtkDataArray>::Take(
+      vos->GetOutput()->GetPointData()->GetArray("VoSColors")->NewInstance());
+    copy->DeepCopy(vos->GetOutput()->GetPointData()->GetArray("VoSColors"));
+    vos->EmptySpaceSkippingOff();
+    vos->Update();
+    Expect(vos->GetNumberOfRaysCast() == 81 * 12, "toggling skipping casts again");
+    vtkDataArray* full = vos->GetOutput()->GetPointData()->GetArray("VoSColors");
+    double worst = 0.0, brightest = 0.0;
+    for (vtkIdType i = 0; i < full->GetNumberOfValues(); ++i)
+    {
+      worst = std::max(
+        worst, std::abs(full->GetComponent(i / 4, i % 4) - copy->GetComponent(i / 4, i % 4)));
+      brightest = std::max(brightest, full->GetComponent(i / 4, i % 4));
+    }
+    Expect(brightest > 10 && worst == 0.0, "skipping changes no Levoy colour");
+    vos->EmptySpaceSkippingOn();
+  }
 
   // Bad input.
   avostest::ExpectedErrors errors(vos);
