@@ -11,7 +11,8 @@ out="$root/out/bench"
 
 "$root/scripts/build.sh"
 rm -rf "$out"
-xvfb-run -a -s "-screen 0 1280x1024x24" "$build/bin/avos-bench" \
+# -noreset: see scripts/test.sh.
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$build/bin/avos-bench" \
   --data "$root/../shared/data" --output "$out" "$@"
 mkdir -p "$root/docs/bench"
 cp "$out"/report.md "$out"/*.csv "$out"/*.png "$root/docs/bench/"

@@ -12,7 +12,7 @@ out="$root/out/compare"
 mkdir -p "$out"
 scene=("$data/volumes/bonsai_zfp.vti" --tf "$data/tf/Bonsai.1.256x256x256.linear.tf1d"
   --opacity vtk "$@")
-run() { xvfb-run -a -s "-screen 0 1280x1024x24" "$render" "${scene[@]}" "$@"; }
+run() { xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" "$render" "${scene[@]}" "$@"; }
 
 run --method reference --output "$out/reference.exr" --report "$out/reference.json"
 for spec in "riemann --step 0.5" "riemann --step 0.1" \

@@ -15,7 +15,7 @@ out="$root/out"
 "$root/scripts/build.sh"
 mkdir -p "$out"
 
-headless=(xvfb-run -a -s "-screen 0 1280x1024x24")
+headless=(xvfb-run -a -s "-screen 0 1280x1024x24 -noreset")
 if [[ -f "$data/volumes/bonsai_zfp.vti" ]]; then
   scene=("$data/volumes/bonsai_zfp.vti" --tf "$data/tf/Bonsai.1.256x256x256.linear.tf1d")
   "${headless[@]}" "$build/bin/avos-render" "${scene[@]}" --method coupled --tolerance 0.001 \

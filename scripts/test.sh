@@ -10,6 +10,9 @@ build="${AVOS_BUILD_DIR:-$root/build}"
 
 cd "$build"
 # Rendering tests need an X display (Debian's VTK is GLX only): Mesa's
-# llvmpipe renders on the CPU inside Xvfb.
-xvfb-run -a -s "-screen 0 1280x1024x24" \
+# llvmpipe renders on the CPU inside Xvfb. -noreset: by default the server
+# resets when its last client leaves, and a window opened meanwhile fails
+# ("bad X server connection"), which a tool that opens and closes windows
+# one after another (avos-bench) meets at random.
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \
   ctest --output-on-failure --timeout 1500 -j "$(nproc)" "$@"

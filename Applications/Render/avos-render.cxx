@@ -9,7 +9,7 @@
 //
 // INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, a volvis .raw name (Name.1.XxYxZ.raw)
 // or a DICOM folder. Runs in an off-screen window (under Xvfb on a headless
-// machine: xvfb-run -a avos-render ...).
+// machine: xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" avos-render ...).
 #include "avosRenderSession.h"
 
 #include "vtkAdaptiveVolumeMapper.h"
