@@ -18,6 +18,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
@@ -28,7 +29,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -240,26 +240,13 @@ private:
   int TilesX = 0;
 };
 
-template <typename Storage>
-std::size_t ComputeRanges(an::EmptySpaceMap<double>& map, const Storage* data)
-{
-  std::atomic<std::size_t> nans(0);
-  vtkSMPTools::For(0, map.GetNumberOfBlocks(2),
-    [&](int begin, int end) { nans += map.ComputeRanges(data, begin, end); });
-  return nans;
-}
 } // namespace
 
 class vtkAdaptiveVolumeMapper::vtkInternals
 {
 public:
   // Data: the empty-space map's ranges.
-  vtkDataArray* Scalars = nullptr;
-  vtkMTimeType ScalarsTime = 0;
-  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
-  an::EmptySpaceMap<double> Map;
-  std::size_t NaNCount = 0;
-  vtkTimeStamp RangesTime;
+  avos::EmptySpaceRanges Ranges;
 
   // Property: the transfer function and the blocks' visibility.
   TransferFunction TF;
@@ -327,7 +314,7 @@ vtkImageData* vtkAdaptiveVolumeMapper::GetRenderedImage()
 
 vtkIdType vtkAdaptiveVolumeMapper::GetNumberOfBlocks()
 {
-  return static_cast<vtkIdType>(this->Internals->Map.GetNumberOfBlocks());
+  return static_cast<vtkIdType>(this->Internals->Ranges.GetMap().GetNumberOfBlocks());
 }
 
 vtkIdType vtkAdaptiveVolumeMapper::GetNumberOfVisibleBlocks()
@@ -451,29 +438,14 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // Data -> empty-space ranges, when the scalars changed.
-  const std::array<int, 3> dimensions{ { dims[0], dims[1], dims[2] } };
-  if (scalars != internals.Scalars || scalars->GetMTime() != internals.ScalarsTime ||
-    dimensions != internals.Dimensions)
+  if (!internals.Ranges.Update(scalars, dims))
   {
-    internals.Map.SetDimensions(dims);
-    std::size_t nans = 0;
-    switch (scalars->GetDataType())
-    {
-      vtkTemplateMacro(nans = ComputeRanges(
-                         internals.Map, static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
-      default:
-        vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
-        return fail();
-    }
-    internals.Scalars = scalars;
-    internals.ScalarsTime = scalars->GetMTime();
-    internals.Dimensions = dimensions;
-    internals.NaNCount = nans;
-    internals.RangesTime.Modified();
+    vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
+    return fail();
   }
-  if (internals.NaNCount > 0)
+  if (internals.Ranges.GetNaNCount() > 0)
   {
-    vtkErrorMacro(<< "The input has " << internals.NaNCount
+    vtkErrorMacro(<< "The input has " << internals.Ranges.GetNaNCount()
                   << " NaN scalars; a volume with undefined values is not rendered.");
     return fail();
   }
@@ -487,7 +459,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || voxel != internals.Voxel ||
-    internals.ClassifyTime < internals.RangesTime)
+    internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime())
   {
     const std::string error = avos::TransferFunctionFromProperty(
       property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
@@ -497,7 +469,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       internals.PropertyTime = 0;
       return fail();
     }
-    internals.VisibleBlocks = internals.Map.Classify(internals.TF);
+    internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();
     internals.OpacityModel = this->OpacityModel;
     internals.Voxel = voxel;
@@ -533,7 +505,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     volumeValues == internals.VolumeMatrix && viewport == internals.Viewport &&
     g.Depth == internals.LastDepth && this->GetMTime() == internals.FrameMapperTime &&
     internals.ClassifyTime.GetMTime() == internals.FrameClassifyTime &&
-    internals.RangesTime.GetMTime() == internals.FrameRangesTime)
+    internals.Ranges.GetTime() == internals.FrameRangesTime)
   {
     this->LastRenderReused = true;
   }
@@ -601,7 +573,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
     vtkSMPThreadLocal<ThreadStatistics> statistics;
     vtkSMPThreadLocal<Segments> segments;
-    const an::EmptySpaceMap<double>* map = this->EmptySpaceSkipping ? &internals.Map : nullptr;
+    const an::EmptySpaceMap<double>* map =
+      this->EmptySpaceSkipping ? &internals.Ranges.GetMap() : nullptr;
     bool aborted = false;
     auto cast = [&](auto* data)
     {
@@ -659,7 +632,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.LastDepth = g.Depth;
     internals.FrameMapperTime = this->GetMTime();
     internals.FrameClassifyTime = internals.ClassifyTime.GetMTime();
-    internals.FrameRangesTime = internals.RangesTime.GetMTime();
+    internals.FrameRangesTime = internals.Ranges.GetTime();
     internals.HaveImage = true;
     internals.FrameScalars = scalars;
     internals.FrameMethod = method;
@@ -717,9 +690,9 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
   {
     using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
     const an::TrilinearVolume<double, Storage> volume(data, g.Dimensions);
-    hit =
-      IntegratePixel(volume, g, internals.TF, internals.FrameSkipping ? &internals.Map : nullptr,
-        internals.FrameMethod, x, y, segments, result, &records);
+    hit = IntegratePixel(volume, g, internals.TF,
+      internals.FrameSkipping ? &internals.Ranges.GetMap() : nullptr, internals.FrameMethod, x, y,
+      segments, result, &records);
   };
   vtkDataArray* scalars = internals.FrameScalars;
   switch (scalars->GetDataType())

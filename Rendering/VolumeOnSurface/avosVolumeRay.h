@@ -10,9 +10,9 @@
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
-#include "vtkSMPTools.h"
 #include "vtkType.h"
 
+#include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
@@ -160,45 +160,25 @@ private:
 };
 
 // The volume's empty-space map, kept across executions by both classes: the
-// blocks' scalar ranges are rebuilt only when the scalars change, their
-// visibility (one pass over the blocks) on every Update.
+// blocks' ranges follow the scalars (EmptySpaceRanges), their visibility is
+// renewed on every Update (one pass over the blocks).
 class EmptySpaceCache
 {
 public:
-  // The map for the prepared setup's volume and transfer function.
+  // The map for the prepared setup's volume and transfer function; null for
+  // a scalar type the map cannot read.
   const avos::numerics::EmptySpaceMap<double>* Update(const VolumeRaySetup& setup)
   {
-    const std::array<int, 3> dimensions{ { setup.Dimensions[0], setup.Dimensions[1],
-      setup.Dimensions[2] } };
-    vtkDataArray* scalars = setup.Scalars;
-    if (scalars != this->Scalars || scalars->GetMTime() != this->Time ||
-      dimensions != this->Dimensions)
+    if (!this->Ranges.Update(setup.Scalars, setup.Dimensions))
     {
-      this->Map.SetDimensions(setup.Dimensions);
-      auto ranges = [this](const auto* data)
-      {
-        vtkSMPTools::For(0, this->Map.GetNumberOfBlocks(2),
-          [&](int begin, int end) { this->Map.ComputeRanges(data, begin, end); });
-      };
-      switch (scalars->GetDataType())
-      {
-        vtkTemplateMacro(ranges(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
-        default:
-          return nullptr;
-      }
-      this->Scalars = scalars;
-      this->Time = scalars->GetMTime();
-      this->Dimensions = dimensions;
+      return nullptr;
     }
-    this->Map.Classify(setup.TF);
-    return &this->Map;
+    this->Ranges.GetMap().Classify(setup.TF);
+    return &this->Ranges.GetMap();
   }
 
 private:
-  avos::numerics::EmptySpaceMap<double> Map;
-  vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
-  vtkMTimeType Time = 0;
-  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
+  EmptySpaceRanges Ranges;
 };
 
 // A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes

@@ -1,0 +1,45 @@
+// The empty-space map of a volume's scalars, its block ranges rebuilt only
+// when the scalars (the array or its MTime) or the dimensions change. Shared
+// by vtkAdaptiveVolumeMapper and the Volume-on-Surface rays; the caller
+// classifies the blocks for its transfer function. Not wrapped.
+#ifndef avosEmptySpaceRanges_h
+#define avosEmptySpaceRanges_h
+
+#include "avosRenderingAdaptiveVolumeModule.h" // For export macro
+#include "vtkTimeStamp.h"
+#include "vtkType.h"
+
+#include "avos/numerics/EmptySpace.h"
+
+#include <array>
+#include <cstddef>
+
+class vtkDataArray;
+
+namespace avos
+{
+class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EmptySpaceRanges
+{
+public:
+  /// Brings the ranges up to date for the scalars (single component, one per
+  /// grid point of `dimensions`). False, with nothing changed, for a scalar
+  /// type the map cannot read.
+  bool Update(vtkDataArray* scalars, const int dimensions[3]);
+
+  avos::numerics::EmptySpaceMap<double>& GetMap() { return this->Map; }
+  /// NaN grid points met by the last rebuild.
+  std::size_t GetNaNCount() const { return this->NaNCount; }
+  /// When the ranges were last rebuilt.
+  vtkMTimeType GetTime() const { return this->Time.GetMTime(); }
+
+private:
+  avos::numerics::EmptySpaceMap<double> Map;
+  vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
+  vtkMTimeType ScalarsTime = 0;
+  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
+  std::size_t NaNCount = 0;
+  vtkTimeStamp Time;
+};
+}
+
+#endif
