@@ -216,16 +216,20 @@ def main():
                 scene.renderer.AddVolume(actor)
                 scene.reset()
                 scene.window.Render()
-                scene.save(image(technique.split(" h ")[0].replace(" ", "-")))
+                shot = image(technique.split(" h ")[0].replace(" ", "-"))
+                scene.save(shot)
                 if technique != "reference":
-                    record(name, size, technique, "rotation", scene.frames(args.frames, step))
+                    # The reference is rendered first: its image is already saved.
+                    psnr, ssim = quality(shot, image("reference"))
+                    record(name, size, technique, "rotation", scene.frames(args.frames, step),
+                           {"psnr": psnr, "ssim": ssim})
                     change, restore = tf_wiggle(prop)
                     record(name, size, technique, "rotation + TF",
                            scene.frames(args.frames, step, change))
                     restore()
                 scene.renderer.RemoveVolume(actor)
-                memory["rc"] = volume.GetOutput().GetPointData().GetScalars() \
-                    .GetActualMemorySize() * 1024
+            memory["rc"] = volume.GetOutput().GetPointData().GetScalars() \
+                .GetActualMemorySize() * 1024
             reference = image("reference")
 
             # VoS^M: cones cast once (the previsualization), colours assigned
@@ -298,13 +302,6 @@ def main():
 
             scene.window.Finalize()  # one X connection per window: give it back
 
-            # Ray-casting quality on the same camera.
-            for technique in ("RC-adaptive-Riemann", "RC-VTK-fixed-point"):
-                psnr, ssim = quality(image(technique), reference)
-                for row in rows:
-                    if (row["dataset"], row["size"], row["technique"].replace(" ", "-")) == \
-                            (name, "%dx%d" % size, technique + "-h-0.5"):
-                        row.update({"psnr": psnr, "ssim": ssim})
         tables["III"].append((name, memory))
 
     minutes = (time.perf_counter() - t0) / 60
