@@ -78,15 +78,15 @@ public:
       color = this->GetColor(s);
       return;
     }
-    auto upper = std::upper_bound(this->Starts.begin(), this->Starts.end(), s);
-    if (upper == this->Starts.begin())
+    const std::size_t i = this->Locate(s);
+    if (i == NoPiece)
     {
       // Below the first knot: the first values (before a jump there).
       tau = this->ToExtinction(this->Opacities.front());
       color = this->Colors.front();
       return;
     }
-    const Piece& p = this->Pieces[static_cast<std::size_t>(upper - this->Starts.begin()) - 1];
+    const Piece& p = this->Pieces[i];
     // Clamped to the piece: holds the end values above the last knot, for an
     // infinite scalar too.
     const Real d = std::min(std::max(s - p.Start, Real(0)), p.Length);
@@ -203,13 +203,30 @@ public:
   // error estimate is unreliable (it assumes a smooth integrand).
   bool HasJumpIn(Real lo, Real hi) const
   {
-    return HasEqualPairIn(this->ColorValues, lo, hi) || HasEqualPairIn(this->OpacityValues, lo, hi);
+    if (this->Pieces.empty() || std::isnan(lo) || std::isnan(hi))
+    {
+      return HasEqualPairIn(this->ColorValues, lo, hi) ||
+        HasEqualPairIn(this->OpacityValues, lo, hi);
+    }
+    // Jumps at the knots with indices in [first above lo, first at or above hi).
+    const std::size_t first = this->Locate(lo) + 1; // NoPiece + 1 == 0
+    std::size_t end = this->Locate(hi) + 1;
+    if (end > 0 && this->Starts[end - 1] == hi)
+    {
+      --end;
+    }
+    return end > first && this->JumpsBefore[end] > this->JumpsBefore[first];
   }
 
   // True when C or tau has a kink (or a jump) at a scalar value in (lo, hi).
   bool HasKnotIn(Real lo, Real hi) const
   {
-    return HasValueIn(this->ColorValues, lo, hi) || HasValueIn(this->OpacityValues, lo, hi);
+    if (this->Pieces.empty() || std::isnan(lo) || std::isnan(hi))
+    {
+      return HasValueIn(this->ColorValues, lo, hi) || HasValueIn(this->OpacityValues, lo, hi);
+    }
+    const std::size_t next = this->Locate(lo) + 1; // the first knot above lo
+    return next < this->Starts.size() && this->Starts[next] < hi;
   }
 
   // Sorted scalar values where C or tau has a kink or a jump.
@@ -236,10 +253,53 @@ private:
     Color ColourSlope;
   };
 
+  static constexpr std::size_t NoPiece = static_cast<std::size_t>(-1);
+
+  // The index of the last knot (piece start) at or below s, NoPiece below the
+  // first one or for a NaN: what std::upper_bound finds, in constant time and
+  // with few mispredicted branches (samples come in no order). Up to 16 knots
+  // it counts them without a branch; above, a uniform grid of buckets over
+  // the knots gives a first guess, corrected by a few comparisons so the
+  // answer is exact whatever the rounding of the bucket.
+  std::size_t Locate(Real s) const
+  {
+    const std::size_t n = this->Starts.size();
+    if (n <= 16)
+    {
+      std::size_t count = 0;
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        count += this->Starts[k] <= s ? 1 : 0;
+      }
+      return count - 1; // NoPiece when 0
+    }
+    if (!(s >= this->Starts.front()))
+    {
+      return NoPiece;
+    }
+    if (s >= this->Starts.back())
+    {
+      return n - 1;
+    }
+    const Real x = (s - this->Starts.front()) * this->BucketScale;
+    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
+    while (this->Starts[i + 1] <= s)
+    {
+      ++i;
+    }
+    while (this->Starts[i] > s)
+    {
+      --i;
+    }
+    return i;
+  }
+
   void BuildPieces()
   {
     this->Pieces.clear();
     this->Starts.clear();
+    this->Buckets.clear();
+    this->JumpsBefore.clear();
     auto usable = [](const std::vector<Real>& v)
     {
       for (std::size_t i = 0; i < v.size(); ++i)
@@ -267,15 +327,33 @@ private:
       p.ColourSlope = Color(Real(0));
       if (i + 1 < starts.size())
       {
-        // Slopes from the midpoint: both functions are linear on the piece.
+        // Both functions are linear on the piece: the slopes of the knot
+        // segments that hold it (not a difference quotient over the piece,
+        // which loses all precision on pieces a few ulp long).
         p.Length = starts[i + 1] - starts[i];
-        const Real h = Real(0.5) * p.Length;
-        const Real mid = p.Start + h;
-        p.OpacitySlope = (Interpolate(this->OpacityValues, this->Opacities, mid) - p.Opacity) / h;
-        p.ColourSlope = (Interpolate(this->ColorValues, this->Colors, mid) - p.Colour) / h;
+        p.OpacitySlope = Slope(this->OpacityValues, this->Opacities, p.Start);
+        p.ColourSlope = Slope(this->ColorValues, this->Colors, p.Start);
       }
       this->Pieces.push_back(p);
       this->Starts.push_back(p.Start);
+    }
+    // A jump is a knot value given twice in either function.
+    this->JumpsBefore.assign(1, 0);
+    for (Real v : starts)
+    {
+      const bool jump = std::count(this->ColorValues.begin(), this->ColorValues.end(), v) > 1 ||
+        std::count(this->OpacityValues.begin(), this->OpacityValues.end(), v) > 1;
+      this->JumpsBefore.push_back(this->JumpsBefore.back() + (jump ? 1 : 0));
+    }
+    // About four buckets per piece; a single knot needs none.
+    const Real span = starts.back() - starts.front();
+    const std::size_t count = std::min<std::size_t>(4 * starts.size(), 1 << 16);
+    this->BucketScale = span > Real(0) ? Real(count) / span : Real(0);
+    for (std::size_t b = 0; b < count; ++b)
+    {
+      const Real edge = starts.front() + span * Real(b) / Real(count);
+      const auto upper = std::upper_bound(starts.begin(), starts.end(), edge);
+      this->Buckets.push_back(static_cast<std::size_t>(upper - starts.begin()) - 1);
     }
   }
 
@@ -296,6 +374,20 @@ private:
       }
     }
     return false;
+  }
+
+  // The slope of the segment between the knots around s, right-continuous
+  // like Interpolate; 0 outside the knots.
+  template <typename T>
+  static T Slope(const std::vector<Real>& values, const std::vector<T>& data, Real s)
+  {
+    const auto upper = std::upper_bound(values.begin(), values.end(), s);
+    if (upper == values.begin() || upper == values.end())
+    {
+      return T(Real(0));
+    }
+    const std::size_t i = static_cast<std::size_t>(upper - values.begin());
+    return (data[i] - data[i - 1]) / (values[i] - values[i - 1]);
   }
 
   template <typename T>
@@ -324,6 +416,11 @@ private:
   Real UnitDistance = Real(1);
   std::vector<Piece> Pieces;
   std::vector<Real> Starts;
+  // Locate()'s grid: the last knot at or below each bucket's lower edge.
+  std::vector<std::size_t> Buckets;
+  Real BucketScale = Real(0); // buckets per unit scalar
+  // JumpsBefore[k]: jumps among the first k knots.
+  std::vector<std::size_t> JumpsBefore;
 };
 
 } // namespace numerics
