@@ -207,14 +207,29 @@ public:
   }
 
   // Collapses until at most `faces` faces (or `vertices` vertices when
-  // non-zero) remain or no legal collapse is left.
-  void Decimate(std::size_t vertices, std::size_t faces, DecimationProgress& progress)
+  // non-zero) remain or no legal collapse is left. From `boundFrom` faces on
+  // (0: never), the adaptive Hausdorff bound applies; `diagonal` is the
+  // mesh's bounding-box diagonal.
+  void Decimate(std::size_t vertices, std::size_t faces, std::size_t boundFrom, double diagonal,
+    DecimationProgress& progress)
   {
     std::size_t n = 0;
     std::size_t nv = this->M.n_vertices(), nf = this->M.n_faces();
     const std::size_t interval = progress.get_interval();
-    while (!this->Queue.empty() && (vertices > 0 ? nv > vertices : nf > faces))
+    while (vertices > 0 ? nv > vertices : nf > faces)
     {
+      if (!this->Bound && nf <= boundFrom)
+      {
+        this->StartBound(diagonal);
+      }
+      if (this->Queue.empty())
+      {
+        if (this->Relax())
+        {
+          continue;
+        }
+        break;
+      }
       const Candidate c = this->Queue.top();
       this->Queue.pop();
       const Mesh::HalfedgeHandle h(c.Halfedge);
@@ -229,8 +244,14 @@ public:
         continue; // stale
       }
       CollapseInfo ci(this->M, h);
-      if (!this->Legal(ci))
+      const bool legal = this->Legal(ci);
+      const bool bounded = legal && this->Bound && this->Bound->collapse_priority(ci) < 0.0f;
+      if (!legal || bounded)
       {
+        if (bounded)
+        {
+          this->BoundParked.push_back(h.idx());
+        }
         // The edge's other direction, at its own error, if not tried yet.
         this->Parked[h.idx()] = 1;
         const Mesh::HalfedgeHandle o = this->M.opposite_halfedge_handle(h);
@@ -244,6 +265,7 @@ public:
       {
         module->preprocess_collapse(ci);
       }
+      this->LastError = c.Error;
       const bool boundary = this->M.is_boundary(this->M.edge_handle(h));
       this->M.collapse(h);
       nv -= 1;
@@ -257,6 +279,10 @@ public:
       {
         module->postprocess_collapse(ci);
       }
+      if (this->Bound)
+      {
+        this->Bound->postprocess_collapse(ci);
+      }
       this->Touch(v1);
       if (++n % interval == 0)
       {
@@ -269,8 +295,55 @@ public:
     }
   }
 
+  // The adaptive bound reached (0 when it never applied).
+  double GetBound() const { return this->Bound ? this->Bound->tolerance() : 0.0; }
+
 private:
   using CollapseInfo = OpenMesh::Decimater::CollapseInfoT<Mesh>;
+  using Hausdorff = OpenMesh::Decimater::ModHausdorffT<Mesh>;
+
+  // The adaptive Hausdorff bound: from now on, the vertices a collapse
+  // removes are kept with the face nearest to them, and a collapse must
+  // leave each within the bound of the surface. The bound starts at twice
+  // the scale of the last quadric error taken (the square root of a sum of
+  // squared plane distances) and doubles whenever no collapse passes it
+  // (Relax). Starting at once the scale was slower (1.6x on the 1.1 M-
+  // triangle analytic isosurface at 90 %: many candidates parked and
+  // checked again) and no closer (0.053 % of the diagonal against 0.051 %).
+  void StartBound(double diagonal)
+  {
+    this->Bound = std::make_unique<Hausdorff>(this->M);
+    this->Bound->initialize();
+    this->Bound->set_tolerance(
+      std::max(2 * std::sqrt(std::max(double(this->LastError), 0.0)), 1e-6 * diagonal));
+  }
+
+  // No candidate is left: doubles the bound and queues again the halfedges
+  // the bound has parked since the last call (those parked as illegal wait
+  // for their neighbourhood to change, as before). False when the bound
+  // parked none: then it is not what stops the decimation (the target may
+  // be out of topological reach). Each call doubles the bound and no point
+  // is farther than the diagonal from any face, so there are at most
+  // log2(diagonal / initial bound) + 2 calls.
+  bool Relax()
+  {
+    if (!this->Bound || this->BoundParked.empty())
+    {
+      return false;
+    }
+    this->Bound->set_tolerance(2.0 * this->Bound->tolerance());
+    for (const int i : this->BoundParked)
+    {
+      const Mesh::HalfedgeHandle h(i);
+      if (this->Parked[i] && !this->M.status(this->M.edge_handle(h)).deleted())
+      {
+        this->Parked[i] = 0;
+        this->Push(h, true);
+      }
+    }
+    this->BoundParked.clear();
+    return true;
+  }
 
   // 16 bytes: the queue is the decimater's main memory traffic. A float
   // error orders collapses as the double would, up to ties within 1e-7.
@@ -412,6 +485,9 @@ private:
   std::vector<char> Parked; // per halfedge: found illegal, not queued
   std::priority_queue<Candidate> Queue;
   std::vector<std::unique_ptr<OpenMesh::Decimater::ModBaseT<Mesh>>> Modules;
+  std::unique_ptr<Hausdorff> Bound;
+  std::vector<int> BoundParked; // halfedges the bound parked since the last Relax
+  float LastError = 0.0f;       // of the last collapse taken
 };
 } // namespace
 
@@ -423,6 +499,7 @@ int vtkOpenMeshDecimation::RequestData(
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   this->AchievedReduction = 0.0;
+  this->HausdorffBound = 0.0;
   if (!input || input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
   {
     vtkErrorMacro(<< "The input has no polygons to decimate.");
@@ -563,8 +640,15 @@ int vtkOpenMeshDecimation::RequestData(
   {
     case LAZY:
     {
+      // The largest distances come from the last collapses: the bound applies
+      // from half the input's triangles, or four times the target's if that
+      // is later, which keeps its bookkeeping small.
+      const std::size_t boundFrom = this->AdaptiveHausdorff && this->HausdorffTolerance == 0.0
+        ? std::min(facesIn / 2, 4 * (targetVertices > 0 ? 2 * targetVertices : targetFaces))
+        : 0;
       LazyDecimater lazy(mesh, constraints);
-      lazy.Decimate(targetVertices, targetFaces, observer);
+      lazy.Decimate(targetVertices, targetFaces, boundFrom, triangles->GetLength(), observer);
+      this->HausdorffBound = lazy.GetBound();
       break;
     }
     case MULTIPLE_CHOICE:
@@ -637,7 +721,9 @@ void vtkOpenMeshDecimation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DecimaterType: " << types[this->DecimaterType] << "\n";
   os << indent << "MaximumNormalDeviation: " << this->MaximumNormalDeviation << "\n";
   os << indent << "HausdorffTolerance: " << this->HausdorffTolerance << "\n";
+  os << indent << "AdaptiveHausdorff: " << this->AdaptiveHausdorff << "\n";
   os << indent << "MaximumAspectRatio: " << this->MaximumAspectRatio << "\n";
   os << indent << "BoundaryVertexDeletion: " << this->BoundaryVertexDeletion << "\n";
   os << indent << "AchievedReduction: " << this->AchievedReduction << "\n";
+  os << indent << "HausdorffBound: " << this->HausdorffBound << "\n";
 }

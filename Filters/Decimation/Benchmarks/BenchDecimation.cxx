@@ -7,7 +7,8 @@
 // bounding-box diagonal.
 //
 //   avos-bench-decimation [--data DIR] [--surfaces foot,bonsai,analytic]
-//                         [--reductions 0.25,0.5,0.75,0.9] [--quick]
+//                         [--reductions 0.25,0.5,0.75,0.9]
+//                         [--filters lazy,lazy-unbounded,exact,pro,quadric] [--quick]
 //
 // OpenMesh's multiple-choice and mixed decimaters are left out: on these
 // surfaces they were slower than the lazy one and 2 to 10 times coarser.
@@ -30,6 +31,7 @@
 
 #include <vtksys/SystemTools.hxx>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -104,6 +106,7 @@ int main(int argc, char* argv[])
   std::string data = "../shared/data";
   std::vector<std::string> names = { "foot", "bonsai", "analytic" };
   std::vector<double> reductions = { 0.25, 0.5, 0.75, 0.9 };
+  std::vector<std::string> keys = { "lazy", "lazy-unbounded", "exact", "pro", "quadric" };
   bool quick = false;
   for (int i = 1; i < argc; ++i)
   {
@@ -120,6 +123,10 @@ int main(int argc, char* argv[])
     {
       names = Split(argv[++i]);
     }
+    else if (i + 1 < argc && arg == "--filters")
+    {
+      keys = Split(argv[++i]);
+    }
     else if (i + 1 < argc && arg == "--reductions")
     {
       reductions.clear();
@@ -132,7 +139,7 @@ int main(int argc, char* argv[])
     {
       std::cerr << "usage: " << argv[0]
                 << " [--data DIR] [--surfaces foot,bonsai,analytic] [--reductions 0.25,0.5]"
-                   " [--quick]\n";
+                   " [--filters lazy,lazy-unbounded,exact,pro,quadric] [--quick]\n";
       return 2;
     }
   }
@@ -166,24 +173,33 @@ int main(int argc, char* argv[])
       { name + " (iso " + std::to_string(int(iso)) + ")", Isosurface(reader, iso) });
   }
 
-  using Decimator = std::function<vtkSmartPointer<vtkPolyData>(vtkPolyData*, double)>;
-  auto openMesh = [](int type)
+  auto openMesh = [](int type, bool adaptiveHausdorff)
   {
-    return [type](vtkPolyData* in, double r)
+    return [type, adaptiveHausdorff](vtkPolyData* in, double r)
     {
       vtkNew<vtkOpenMeshDecimation> f;
       f->SetInputData(in);
       f->SetTargetReduction(r);
       f->SetDecimaterType(type);
+      f->SetAdaptiveHausdorff(adaptiveHausdorff);
       f->Update();
       return vtkSmartPointer<vtkPolyData>(f->GetOutput());
     };
   };
-  const std::vector<std::pair<std::string, Decimator>> filters = {
-    { "vtkOpenMeshDecimation (lazy, default)", openMesh(vtkOpenMeshDecimation::LAZY) },
-    { "vtkOpenMeshDecimation exact (OpenMesh's DecimaterT)",
-      openMesh(vtkOpenMeshDecimation::EXACT) },
-    { "vtkDecimatePro (PreserveTopology)",
+  struct Filter
+  {
+    std::string Key;
+    std::string Name;
+    std::function<vtkSmartPointer<vtkPolyData>(vtkPolyData*, double)> Run;
+  };
+  const std::vector<Filter> all = {
+    { "lazy", "vtkOpenMeshDecimation (lazy, default)",
+      openMesh(vtkOpenMeshDecimation::LAZY, true) },
+    { "lazy-unbounded", "vtkOpenMeshDecimation (lazy, AdaptiveHausdorff off)",
+      openMesh(vtkOpenMeshDecimation::LAZY, false) },
+    { "exact", "vtkOpenMeshDecimation exact (OpenMesh's DecimaterT)",
+      openMesh(vtkOpenMeshDecimation::EXACT, false) },
+    { "pro", "vtkDecimatePro (PreserveTopology)",
       [](vtkPolyData* in, double r)
       {
         vtkNew<vtkDecimatePro> f;
@@ -193,7 +209,7 @@ int main(int argc, char* argv[])
         f->Update();
         return vtkSmartPointer<vtkPolyData>(f->GetOutput());
       } },
-    { "vtkQuadricDecimation",
+    { "quadric", "vtkQuadricDecimation",
       [](vtkPolyData* in, double r)
       {
         vtkNew<vtkQuadricDecimation> f;
@@ -203,6 +219,22 @@ int main(int argc, char* argv[])
         return vtkSmartPointer<vtkPolyData>(f->GetOutput());
       } },
   };
+  std::vector<Filter> filters;
+  for (const std::string& key : keys)
+  {
+    auto it = std::find_if(all.begin(), all.end(), [&](const Filter& f) { return f.Key == key; });
+    if (it == all.end())
+    {
+      std::cerr << "unknown filter '" << key << "' (lazy, lazy-unbounded, exact, pro, quadric)\n";
+      return 2;
+    }
+    filters.push_back(*it);
+  }
+  if (filters.empty())
+  {
+    std::cerr << "no filter to run\n";
+    return 2;
+  }
 
   std::printf("| surface | triangles | target | filter | achieved | time (s) | Hausdorff (%% of "
               "diagonal) |\n");
@@ -212,21 +244,21 @@ int main(int argc, char* argv[])
   {
     // Untimed warm-up: the first filter timed would otherwise also pay the
     // process's first touches of its memory and lazy symbol binding.
-    filters.front().second(s.Mesh, 0.1);
+    filters.front().Run(s.Mesh, 0.1);
     const double diagonal = s.Mesh->GetLength();
     for (double r : reductions)
     {
       for (const auto& f : filters)
       {
         timer->StartTimer();
-        vtkSmartPointer<vtkPolyData> out = f.second(s.Mesh, r);
+        vtkSmartPointer<vtkPolyData> out = f.Run(s.Mesh, r);
         timer->StopTimer();
         const double seconds = timer->GetElapsedTime();
         const double achieved =
           1.0 - double(out->GetNumberOfPolys()) / double(s.Mesh->GetNumberOfPolys());
         const double h = Hausdorff(s.Mesh, out);
         std::printf("| %s | %lld | %.0f %% | %s | %.1f %% | %.2f | %.4f |\n", s.Name.c_str(),
-          static_cast<long long>(s.Mesh->GetNumberOfPolys()), 100 * r, f.first.c_str(),
+          static_cast<long long>(s.Mesh->GetNumberOfPolys()), 100 * r, f.Name.c_str(),
           100 * achieved, seconds, 100 * h / diagonal);
         std::fflush(stdout);
       }
