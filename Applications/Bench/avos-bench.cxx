@@ -871,16 +871,10 @@ bool ReadResults(Options& o, std::vector<Run>& runs, std::vector<Trace>& traces)
 int main(int argc, char* argv[])
 {
   Options o;
-  const std::string problem = Parse(argc, argv, o);
-  if (problem == "help")
+  const int status = app::CommandLineStatus(Parse(argc, argv, o), Usage);
+  if (status >= 0)
   {
-    std::cout << Usage;
-    return EXIT_SUCCESS;
-  }
-  if (!problem.empty())
-  {
-    std::cerr << "error: " << problem << "\n" << Usage;
-    return 2;
+    return status;
   }
   if (o.Replot)
   {

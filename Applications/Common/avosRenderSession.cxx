@@ -33,6 +33,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -325,6 +326,21 @@ double Median(std::vector<double> values)
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+int CommandLineStatus(const std::string& problem, const char* usage)
+{
+  if (problem == "help")
+  {
+    std::cout << usage;
+    return EXIT_SUCCESS;
+  }
+  if (!problem.empty())
+  {
+    std::cerr << "error: " << problem << "\n" << usage;
+    return 2;
+  }
+  return -1;
 }
 
 bool WriteImage(const std::string& path, int width, int height, const std::vector<float>& rgba)

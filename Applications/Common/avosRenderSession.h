@@ -101,6 +101,11 @@ private:
 
 double Median(std::vector<double> values);
 
+/// What a command does with its Parse() verdict: "help" prints the usage
+/// (exit status 0), another non-empty text is an error printed before the
+/// usage (status 2); -1 when the command line is good and the command goes on.
+int CommandLineStatus(const std::string& problem, const char* usage);
+
 /// Writes RGBA float pixels (row 0 at the bottom): EXR keeps the four float
 /// channels, PNG gets RGB over the black background in 8 bits.
 bool WriteImage(const std::string& path, int width, int height, const std::vector<float>& rgba);

@@ -249,16 +249,10 @@ std::string JsonString(const std::string& s)
 int main(int argc, char* argv[])
 {
   Options o;
-  const std::string problem = Parse(argc, argv, o);
-  if (problem == "help")
+  const int status = app::CommandLineStatus(Parse(argc, argv, o), Usage);
+  if (status >= 0)
   {
-    std::cout << Usage;
-    return EXIT_SUCCESS;
-  }
-  if (!problem.empty())
-  {
-    std::cerr << "error: " << problem << "\n" << Usage;
-    return 2;
+    return status;
   }
   if (o.Settings.Threads > 0)
   {
