@@ -351,7 +351,10 @@ struct Bracket
     glm::vec<3, Real> g[5];
     for (int i = 0; i < 5; ++i)
     {
-      g[i] = this->S[i].Color * (t[i] * std::exp(-theta[i]));
+      // Transparent samples (common at the ends of visible segments) add
+      // nothing: no exponential for them.
+      g[i] = t[i] > Real(0) ? this->S[i].Color * (t[i] * std::exp(-theta[i]))
+                            : glm::vec<3, Real>(Real(0));
     }
     return { k / Real(6) * (g[0] + Real(4) * g[2] + g[4]),
       k / Real(12) * (g[0] + Real(4) * g[1] + Real(2) * g[2] + Real(4) * g[3] + g[4]) };
@@ -616,6 +619,7 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
   const Real innerTolerance = Real(0.4) * eps / L; // per unit length
   const Real outerTolerance = Real(0.4) * eps / L;
   const Real terminationBudget = Real(0.2) * eps / std::max(Real(1), tf.GetMaximumColor());
+  const Real terminationDepth = -std::log(terminationBudget); // T <= budget: theta >= this
   const Real fieldMinimum = settings.FieldMinimum;
   const Real fieldMaximum = settings.FieldMaximum;
 
@@ -709,7 +713,7 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
             thetaU += std::max(out.Inner().Corrected(), Real(0));
           }
           const Real uEnd = out.K == tEnd - u ? tEnd : u + out.K;
-          stats.Accept(u, out.K, -std::expm1(-thetaU));
+          stats.Accept(u, out.K, stats.Steps ? -std::expm1(-thetaU) : Real(0));
           outer.Succeeded();
           u = uEnd;
           out.S[0] = out.S[4];
@@ -721,8 +725,7 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
       in.S[0] = in.S[4];
       inner.Succeeded();
 
-      if (settings.EarlyTermination && (t < D || j + 1 < count) &&
-        std::exp(-theta) <= terminationBudget)
+      if (settings.EarlyTermination && (t < D || j + 1 < count) && theta >= terminationDepth)
       {
         stats.Terminated = true;
         break;
