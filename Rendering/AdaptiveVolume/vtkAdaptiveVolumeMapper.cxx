@@ -259,12 +259,16 @@ public:
   // Frame: what the last image depends on.
   std::array<double, 16> Projection{};
   std::array<double, 16> VolumeMatrix{};
-  std::array<int, 4> Viewport{ { 0, 0, 0, 0 } };
+  std::array<int, 6> Viewport{ { 0, 0, 0, 0, 0, 0 } }; // origin, viewport and image sizes
+  std::vector<float> ViewportDepth;                    // the depth buffer under the viewport
   std::vector<float> LastDepth;
   vtkMTimeType FrameMapperTime = 0;
   vtkMTimeType FrameClassifyTime = 0;
   vtkMTimeType FrameRangesTime = 0;
   bool HaveImage = false;
+  // The last ray cast's image sample distance and time (auto-adjustment).
+  double CastDistance = 1.0;
+  double CastSeconds = 0.0;
   // What TraceRay re-casts: the last frame's data, method and map use.
   vtkSmartPointer<vtkDataArray> FrameScalars;
   Method FrameMethod;
@@ -476,30 +480,60 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifyTime.Modified();
   }
 
-  // Frame: camera, viewport and depth buffer.
-  int width, height, x0, y0;
-  ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
-  if (width < 1 || height < 1)
+  // Frame: camera, viewport, image size and depth buffer.
+  int viewportWidth, viewportHeight, x0, y0;
+  ren->GetTiledSizeAndOrigin(&viewportWidth, &viewportHeight, &x0, &y0);
+  if (viewportWidth < 1 || viewportHeight < 1)
   {
     return fail();
   }
+  double distance = this->ImageSampleDistance;
+  if (this->AutoAdjustSampleDistances)
+  {
+    // What fits the renderer's time for the volume, the cast time taken as
+    // proportional to the number of rays (1 / distance^2).
+    const double budget = vol->GetAllocatedRenderTime();
+    distance = internals.CastDistance;
+    if (internals.CastSeconds > 0.0 && budget > 0.0)
+    {
+      distance *= std::sqrt(internals.CastSeconds / budget);
+    }
+    distance = std::min(std::max(distance, this->MinimumImageSampleDistance),
+      std::max(this->MinimumImageSampleDistance, this->MaximumImageSampleDistance));
+  }
+  const int width = std::max(1, static_cast<int>(std::ceil(viewportWidth / distance - 1e-9)));
+  const int height = std::max(1, static_cast<int>(std::ceil(viewportHeight / distance - 1e-9)));
   FrameGeometry& g = internals.Geometry;
   g.Width = width;
   g.Height = height;
   std::copy(dims, dims + 3, g.Dimensions);
   g.Voxel = voxel;
-  g.Depth.resize(static_cast<std::size_t>(width) * height);
+  internals.ViewportDepth.resize(static_cast<std::size_t>(viewportWidth) * viewportHeight);
   if (!ren->GetRenderWindow()->GetZbufferData(
-        x0, y0, x0 + width - 1, y0 + height - 1, g.Depth.data()))
+        x0, y0, x0 + viewportWidth - 1, y0 + viewportHeight - 1, internals.ViewportDepth.data()))
   {
-    std::fill(g.Depth.begin(), g.Depth.end(), 1.0f);
+    std::fill(internals.ViewportDepth.begin(), internals.ViewportDepth.end(), 1.0f);
+  }
+  // Each ray stops at the depth under its own centre.
+  g.Depth.resize(static_cast<std::size_t>(width) * height);
+  for (int y = 0; y < height; ++y)
+  {
+    const int vy =
+      std::min(static_cast<int>((y + 0.5) * viewportHeight / height), viewportHeight - 1);
+    for (int x = 0; x < width; ++x)
+    {
+      const int vx =
+        std::min(static_cast<int>((x + 0.5) * viewportWidth / width), viewportWidth - 1);
+      g.Depth[static_cast<std::size_t>(y) * width + x] =
+        internals.ViewportDepth[static_cast<std::size_t>(vy) * viewportWidth + vx];
+    }
   }
   vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
     ren->GetTiledAspectRatio(), -1, 1);
   std::array<double, 16> projectionValues, volumeValues;
   std::copy(projection->GetData(), projection->GetData() + 16, projectionValues.begin());
   std::copy(vol->GetMatrix()->GetData(), vol->GetMatrix()->GetData() + 16, volumeValues.begin());
-  const std::array<int, 4> viewport{ { x0, y0, width, height } };
+  const std::array<int, 6> viewport{ { x0, y0, viewportWidth, viewportHeight, width, height } };
 
   if (internals.HaveImage && projectionValues == internals.Projection &&
     volumeValues == internals.VolumeMatrix && viewport == internals.Viewport &&
@@ -637,6 +671,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.FrameScalars = scalars;
     internals.FrameMethod = method;
     internals.FrameSkipping = map != nullptr;
+    internals.CastDistance = distance;
+    timer->StopTimer();
+    internals.CastSeconds = timer->GetElapsedTime();
+    this->LastImageSampleDistance = distance;
   }
 
   if (internals.DisplayHelper)
@@ -732,6 +770,11 @@ void vtkAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumStep: " << this->MaximumStep << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
+  os << indent << "ImageSampleDistance: " << this->ImageSampleDistance << "\n";
+  os << indent << "MinimumImageSampleDistance: " << this->MinimumImageSampleDistance << "\n";
+  os << indent << "MaximumImageSampleDistance: " << this->MaximumImageSampleDistance << "\n";
+  os << indent << "AutoAdjustSampleDistances: " << this->AutoAdjustSampleDistances << "\n";
+  os << indent << "LastImageSampleDistance: " << this->LastImageSampleDistance << "\n";
   os << indent << "LastRenderTime: " << this->LastRenderTime << "\n";
   os << indent << "RaysCast: " << this->RaysCast << "\n";
   os << indent << "MeanSamplesPerRay: " << this->MeanSamplesPerRay << "\n";

@@ -132,8 +132,34 @@ public:
   vtkBooleanMacro(EmptySpaceSkipping, vtkTypeBool);
   ///@}
 
+  ///@{
   /**
-   * The image of the last render: viewport-sized, float RGBA point scalars
+   * One ray every ImageSampleDistance pixels in x and y (default 1, clamped
+   * to [1, 100]); the smaller image is stretched over the viewport, as
+   * vtkFixedPointVolumeRayCastMapper does. With AutoAdjustSampleDistances on
+   * (the default) the distance is chosen per frame instead, within
+   * [MinimumImageSampleDistance, MaximumImageSampleDistance] (defaults 1 and
+   * 10), so that the ray cast fits the time the renderer allocates to the
+   * volume (vtkProp::GetAllocatedRenderTime(): about 1 / DesiredUpdateRate
+   * while interacting, hours for a still render). The cast time is taken
+   * to grow with the number of rays. GetLastImageSampleDistance() is the
+   * distance the last image was cast with.
+   */
+  vtkSetClampMacro(ImageSampleDistance, double, 1.0, 100.0);
+  vtkGetMacro(ImageSampleDistance, double);
+  vtkSetClampMacro(MinimumImageSampleDistance, double, 1.0, 100.0);
+  vtkGetMacro(MinimumImageSampleDistance, double);
+  vtkSetClampMacro(MaximumImageSampleDistance, double, 1.0, 100.0);
+  vtkGetMacro(MaximumImageSampleDistance, double);
+  vtkSetMacro(AutoAdjustSampleDistances, vtkTypeBool);
+  vtkGetMacro(AutoAdjustSampleDistances, vtkTypeBool);
+  vtkBooleanMacro(AutoAdjustSampleDistances, vtkTypeBool);
+  vtkGetMacro(LastImageSampleDistance, double);
+  ///@}
+
+  /**
+   * The image of the last render: viewport-sized (divided by the image
+   * sample distance, rounded up, when it is above 1), float RGBA point scalars
    * named "RGBA" (RGB = I premultiplied by opacity, A = 1 - T, black
    * background), row 0 at the bottom. Empty before the first render and
    * after a render that failed.
@@ -190,6 +216,11 @@ protected:
   double MaximumStep = 2.0;
   double SampleDistance = 0.5;
   vtkTypeBool EmptySpaceSkipping = 1;
+  double ImageSampleDistance = 1.0;
+  double MinimumImageSampleDistance = 1.0;
+  double MaximumImageSampleDistance = 10.0;
+  vtkTypeBool AutoAdjustSampleDistances = 1;
+  double LastImageSampleDistance = 1.0;
 
   double LastRenderTime = 0.0;
   vtkIdType RaysCast = 0;

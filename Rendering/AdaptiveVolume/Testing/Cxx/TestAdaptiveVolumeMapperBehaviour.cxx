@@ -326,6 +326,55 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
     scene.Renderer->RemoveActor(actor);
   }
 
+  // Image sample distance: a ray every 2 pixels gives the image of a window
+  // half the size (the same ray through each image pixel's centre).
+  // Auto-adjusted, the distance grows to the maximum when the renderer
+  // allots a microsecond, and a still render is at full resolution again.
+  {
+    scene.Mapper->SetInputData(volume);
+    scene.ResetView();
+    scene.Mapper->AutoAdjustSampleDistancesOff();
+    scene.Window->SetSize(Size / 2, Size / 2);
+    vtkSmartPointer<vtkFloatArray> half = scene.Render();
+    scene.Window->SetSize(Size, Size);
+    vtkSmartPointer<vtkFloatArray> full = scene.Render();
+    scene.Mapper->SetImageSampleDistance(2.0);
+    vtkSmartPointer<vtkFloatArray> sampled = scene.Render();
+    const int* dims = scene.Mapper->GetRenderedImage()->GetDimensions();
+    Expect(dims[0] == Size / 2 && dims[1] == Size / 2 &&
+        scene.Mapper->GetLastImageSampleDistance() == 2.0,
+      "image sample distance 2: a half-size image");
+    Expect(MaxDifference(sampled, half) < 1e-7, "the rays of a half-size window");
+    vtkNew<vtkUnsignedCharArray> pixels;
+    scene.Window->GetRGBACharPixelData(0, 0, Size - 1, Size - 1, 0, pixels);
+    int lit = 0, cast = 0;
+    for (vtkIdType p = 0; p < Size * Size; ++p)
+    {
+      lit +=
+        pixels->GetComponent(p, 0) + pixels->GetComponent(p, 1) + pixels->GetComponent(p, 2) > 30;
+      cast += full->GetComponent(p, 3) > 0.1;
+    }
+    Expect(std::abs(lit - cast) < Size * 2, "the smaller image covers the viewport");
+
+    scene.Mapper->SetImageSampleDistance(1.0);
+    scene.Mapper->AutoAdjustSampleDistancesOn();
+    scene.Window->SetDesiredUpdateRate(1e6);
+    for (int frame = 0; frame < 2; ++frame) // the first measures the cast time
+    {
+      scene.Renderer->GetActiveCamera()->Azimuth(1.0);
+      scene.Render();
+    }
+    dims = scene.Mapper->GetRenderedImage()->GetDimensions();
+    Expect(scene.Mapper->GetLastImageSampleDistance() == 10.0 && dims[0] == (Size + 9) / 10 &&
+        dims[1] == (Size + 9) / 10,
+      "a microsecond per frame: the coarsest image");
+    scene.Window->SetDesiredUpdateRate(0.0001);
+    scene.Renderer->GetActiveCamera()->Azimuth(-2.0);
+    Expect(MaxDifference(scene.Render(), full) < 1e-7 &&
+        scene.Mapper->GetLastImageSampleDistance() == 1.0,
+      "a still render: full resolution again");
+  }
+
   // The camera inside the volume: rays start at the near plane, in the blob.
   {
     scene.Mapper->SetInputData(volume);
