@@ -498,6 +498,14 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     {
       distance *= std::sqrt(internals.CastSeconds / budget);
     }
+    // Within 10 % of the last distance the last one is kept, so that timing
+    // noise does not resize (and cast again) an unchanged frame; at the
+    // minimum it is exact, so a still render is at full resolution.
+    if (distance > this->MinimumImageSampleDistance &&
+      std::abs(distance - internals.CastDistance) <= 0.1 * internals.CastDistance)
+    {
+      distance = internals.CastDistance;
+    }
     distance = std::min(std::max(distance, this->MinimumImageSampleDistance),
       std::max(this->MinimumImageSampleDistance, this->MaximumImageSampleDistance));
   }

@@ -142,8 +142,10 @@ public:
    * 10), so that the ray cast fits the time the renderer allocates to the
    * volume (vtkProp::GetAllocatedRenderTime(): about 1 / DesiredUpdateRate
    * while interacting, hours for a still render). The cast time is taken
-   * to grow with the number of rays. GetLastImageSampleDistance() is the
-   * distance the last image was cast with.
+   * to grow with the number of rays; estimates within 10 % of the last
+   * distance keep it, so an unchanged frame is not cast again.
+   * GetLastImageSampleDistance() is the distance the last image was cast
+   * with.
    */
   vtkSetClampMacro(ImageSampleDistance, double, 1.0, 100.0);
   vtkGetMacro(ImageSampleDistance, double);

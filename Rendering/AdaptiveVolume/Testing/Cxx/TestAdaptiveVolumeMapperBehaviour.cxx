@@ -368,6 +368,8 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
     Expect(scene.Mapper->GetLastImageSampleDistance() == 10.0 && dims[0] == (Size + 9) / 10 &&
         dims[1] == (Size + 9) / 10,
       "a microsecond per frame: the coarsest image");
+    scene.Render();
+    Expect(scene.Mapper->GetLastRenderReused(), "auto-adjusted, an unchanged frame is reused");
     scene.Window->SetDesiredUpdateRate(0.0001);
     scene.Renderer->GetActiveCamera()->Azimuth(-2.0);
     Expect(MaxDifference(scene.Render(), full) < 1e-7 &&
