@@ -266,6 +266,22 @@ int TestOpenMeshDecimation(int, char*[])
     Expect(SubsetWithData(sheet, decimate->GetOutput()), "sheet: subset with data");
     Expect(decimate->GetAchievedReduction() > 0.7, "the sheet's interior is decimated");
   }
+  // The same sheet with the lazy decimater and its adaptive bound, to a
+  // target the kept boundary puts out of reach: the bound relaxes until it
+  // is no longer what stops the decimation, and the filter ends there.
+  decimate->SetDecimaterTypeToLazy();
+  decimate->SetTargetReduction(0.97);
+  decimate->Update();
+  {
+    const Topology after = Measure(decimate->GetOutput());
+    std::cout << "sheet, lazy to 97 %: achieved " << decimate->GetAchievedReduction() << ", bound "
+              << decimate->GetHausdorffBound() << "\n";
+    Expect(decimate->GetAchievedReduction() > 0.7 && decimate->GetAchievedReduction() < 0.97,
+      "lazy: an unreachable target ends at the topological limit");
+    Expect(decimate->GetHausdorffBound() > 0.0, "lazy: the bound applied on the way");
+    Expect(after.Euler == 1 && after.BoundaryLoops == 1 && after.BoundaryVertices == 2 * (60 + 40),
+      "lazy: the sheet keeps its boundary");
+  }
 
   // The adaptive Hausdorff bound (LAZY, on by default): it applies only
   // beyond 50 %, is reported, and gives a surface no farther from the input
