@@ -274,8 +274,10 @@ int TestAdaptiveVolumeMapperVTKAgreement(int, char*[])
       MaxError(gpu, gpuModelled), bound);
     const double modelledMean = std::abs(MeanError(gpu, gpuModelled, reference));
     const double unmodelledMean = std::abs(MeanError(gpu, reference, reference));
-    expect(modelledMean < 1.0 / 255.0, "GPU: no mean error left once modelled", modelledMean,
-      1.0 / 255.0);
+    // Rounding to 8 bits is unbiased: over thousands of pixels its mean is
+    // far below a quarter of a unit (the unmodelled bias is about 0.75 unit).
+    expect(modelledMean < 0.25 / 255.0, "GPU: no mean error left once modelled", modelledMean,
+      0.25 / 255.0);
     expect(unmodelledMean > 3.0 * modelledMean, "GPU: the scalar scaling is a real bias",
       unmodelledMean, 3.0 * modelledMean);
   }
