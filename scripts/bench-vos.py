@@ -208,7 +208,7 @@ def main():
                     mapper.SetSampleDistance(0.5)
                 else:
                     mapper.SetSampleDistance(1.0)  # world units: half a coarse voxel
-                    mapper.SetAutoAdjustSampleDistances(0)
+                mapper.SetAutoAdjustSampleDistances(0)  # a ray per pixel, whatever the timing
                 mapper.SetInputConnection(volume.GetOutputPort())
                 actor = vtkVolume()
                 actor.SetMapper(mapper)

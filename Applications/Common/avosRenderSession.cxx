@@ -190,6 +190,7 @@ vtkSmartPointer<vtkVolumeMapper> MakeMapper(const MethodSettings& settings, doub
   ours->SetInitialStep(settings.H0);
   ours->SetMinimumStep(settings.HMin);
   ours->SetMaximumStep(settings.HMax);
+  ours->SetAutoAdjustSampleDistances(0); // every pixel, as VTK's mappers above
   return ours;
 }
 
