@@ -2,7 +2,7 @@
 // of a linear ramp s = 50 + 40 z on [-1, 1]^3 (trilinear interpolation is exact
 // on it), through a piecewise-linear transfer function in the extinction
 // model. Along every ray s is linear, so each pixel's RGBA has a closed form
-// (Numerics/Testing/Oracles.h). The ray of each pixel is rebuilt here
+// (Modules/Numerics/Testing/Oracles.h). The ray of each pixel is rebuilt here
 // independently, from the renderer's display-to-world transform. Required:
 // error within eps on every pixel for the adaptive methods, within 1e-5 for
 // the reference; the Riemann sum at h = 0.5 must be visibly worse (the test
