@@ -129,6 +129,8 @@ struct RayStatistics
   long Samples = 0;  // transfer-function evaluations
   long Accepted = 0; // accepted steps, inner and outer
   long Rejected = 0; // rejected (halved) steps, inner and outer
+  long Cells = 0;    // cells entered whose range is visible (IntegratePiecewise)
+  long Pieces = 0;   // visible smooth pieces integrated (IntegratePiecewise)
   Real SmallestStep = std::numeric_limits<Real>::infinity();
   Real LargestStep = Real(0);
   bool Terminated = false; // stopped early by the transmittance bound

@@ -94,6 +94,27 @@ public:
     color = p.Colour + p.ColourSlope * d;
   }
   OpacityModel GetOpacityModel() const { return this->Model; }
+  Real GetUnitDistance() const { return this->UnitDistance; }
+
+  // Between consecutive knots of either function, both are linear: one piece
+  // per such interval, starting at its left knot with the right-continuous
+  // values there. The last piece (slopes 0) holds the end values. Opacity is
+  // the knot's own quantity (tau in the extinction model, alpha in VTK's).
+  struct Piece
+  {
+    Real Start;
+    Real Length; // 0 for the last piece
+    Real Opacity;
+    Real OpacitySlope;
+    Color Colour;
+    Color ColourSlope;
+  };
+
+  // The pieces Finalize() built (empty before it, or for invalid knots), and
+  // the values held below the first knot.
+  const std::vector<Piece>& GetPieces() const { return this->Pieces; }
+  Real GetOpacityBelow() const { return this->Opacities.front(); }
+  Color GetColorBelow() const { return this->Colors.front(); }
 
   // Empty string when usable; otherwise what is wrong.
   std::string Validate() const
@@ -243,19 +264,6 @@ public:
   }
 
 private:
-  // Between consecutive knots of either function, both are linear: one piece
-  // per such interval, starting at its left knot with the right-continuous
-  // values there. The last piece (slopes 0) holds the end values.
-  struct Piece
-  {
-    Real Start;
-    Real Length; // 0 for the last piece
-    Real Opacity;
-    Real OpacitySlope;
-    Color Colour;
-    Color ColourSlope;
-  };
-
   static constexpr std::size_t NoPiece = static_cast<std::size_t>(-1);
 
   // The index of the last knot (piece start) at or below s, NoPiece below the

@@ -59,6 +59,23 @@ public:
     return v0 + fz * (v1 - v0);
   }
 
+  int GetDimension(int axis) const { return axis == 0 ? this->Nx : (axis == 1 ? this->Ny : this->Nz); }
+
+  // The eight corners of cell (i, j, k), x fastest: c[a + 2 b + 4 c] is the
+  // grid point (i + a, j + b, k + c).
+  void GetCorners(int i, int j, int k, Real c[8]) const
+  {
+    const Storage* p = this->Data + i + j * this->Sy + k * this->Sz;
+    c[0] = Real(p[0]);
+    c[1] = Real(p[1]);
+    c[2] = Real(p[this->Sy]);
+    c[3] = Real(p[this->Sy + 1]);
+    c[4] = Real(p[this->Sz]);
+    c[5] = Real(p[this->Sz + 1]);
+    c[6] = Real(p[this->Sz + this->Sy]);
+    c[7] = Real(p[this->Sz + this->Sy + 1]);
+  }
+
 private:
   // Cell index in [0, n - 2] and the fraction inside it, for a NaN too (it
   // lands on cell 0: a NaN position is a caller's bug, never a crash).

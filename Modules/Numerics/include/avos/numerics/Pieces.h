@@ -1,0 +1,509 @@
+// A ray through a trilinear volume, cut into pieces on which the integrand of
+// the volume rendering integral is smooth (analytic).
+//
+// Inside one cell the trilinear interpolant restricted to the ray is a cubic
+// polynomial s(t); the transfer function is linear in s between two knots. So
+// the integrand can lose smoothness only where the ray crosses a cell face or
+// where s(t) crosses a knot value. PieceWalk cuts the ray at exactly those
+// events (the cells by Amanatides and Woo's traversal, the crossings from the
+// cubic: its extrema bracket monotone stretches, a safeguarded Newton step
+// finds each knot inside a stretch), as exact and pre-integrated volume
+// rendering do, and hands each piece with its cubic and its transfer-function
+// piece to the caller (see PiecewiseIntegrator.h).
+//
+// PiecewiseTransferFunction gives tau and C linear in s on each piece. In the
+// extinction model the knots are tau already. In VTK's alpha model
+// tau = -ln(1 - alpha) / d is not linear in s; each linear alpha segment is
+// cut at extra knots so that the linear interpolant of tau is within a
+// relative error r of the true tau everywhere (tau is convex in alpha, so the
+// chord bounds it from above). A relative error r in tau changes every channel
+// of a ray by at most 2 r (1 + O(r)) (see PiecewiseIntegrator.h), whatever the
+// ray. Alpha values of 1 and above are opaque (tau = 40 / d, as in
+// TransferFunction); the extra knots stop where tau reaches 36 / d (1 - alpha
+// below 2.3e-16), where the chord up to the opaque value is within 11 %.
+//
+// Bounds (termination). A ray segment of the volume's box crosses at most
+// nx + ny + nz cells; a cell's cubic has at most 3 monotone stretches, and a
+// stretch crosses each knot at most once, so a cell holds at most
+// 3 (m + 1) pieces for m knots. Each knot crossing takes at most 128
+// iterations of bisection-safeguarded Newton.
+#ifndef avos_numerics_Pieces_h
+#define avos_numerics_Pieces_h
+
+#include "avos/numerics/TransferFunction.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+template <typename Real>
+class PiecewiseTransferFunction
+{
+public:
+  using Color = glm::vec<3, Real>;
+
+  // tau(s) = Tau + TauSlope (s - Start), C(s) = Colour + ColourSlope (s - Start).
+  struct Piece
+  {
+    Real Start;
+    Real Tau;
+    Real TauSlope;
+    Color Colour;
+    Color ColourSlope;
+  };
+
+  // The most knots the alpha model's conversion may add: beyond, the
+  // requested relative error is refused.
+  static constexpr std::size_t MaximumKnots = std::size_t(1) << 20;
+
+  // Prepares `tf` (valid and finalised) for integration. `relativeError` is
+  // the largest relative error of tau allowed in the alpha model (unused in
+  // the extinction model, where tau is exact). Empty on success, else why.
+  std::string Build(const TransferFunction<Real>& tf, Real relativeError)
+  {
+    this->Knots.clear();
+    this->Pieces.clear();
+    this->VisibleBefore.clear();
+    std::string error = tf.Validate();
+    if (!error.empty())
+    {
+      return error;
+    }
+    const auto& pieces = tf.GetPieces();
+    if (pieces.empty())
+    {
+      return "the transfer function was not finalised";
+    }
+    const bool alpha = tf.GetOpacityModel() == OpacityModel::Alpha;
+    if (alpha && !(relativeError >= Real(1e-7) && relativeError < Real(1)))
+    {
+      return "the relative error of the alpha model's extinction must be in [1e-7, 1)";
+    }
+    // Below the first knot: the first values, constant.
+    this->Pieces.push_back({ pieces.front().Start, tf.ToExtinction(tf.GetOpacityBelow()), Real(0),
+      tf.GetColorBelow(), Color(Real(0)) });
+    for (const auto& p : pieces)
+    {
+      const Real a0 = p.Opacity;
+      const Real a1 = p.Length > Real(0) ? p.OpacitySlope : Real(0);
+      if (!alpha || a1 == Real(0))
+      {
+        this->Add(p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, p.Colour, p.ColourSlope);
+        continue;
+      }
+      // The alpha model on a sloped segment: extra knots, in alpha from the
+      // low end to the high end, then laid out in s.
+      const Real aEnd = a0 + a1 * p.Length;
+      std::vector<Real> cuts = AlphaCuts(std::min(a0, aEnd), std::max(a0, aEnd), relativeError);
+      if (this->Knots.size() + cuts.size() > MaximumKnots)
+      {
+        return "the alpha model needs too many knots for that tolerance";
+      }
+      if (a1 < Real(0))
+      {
+        std::reverse(cuts.begin(), cuts.end());
+      }
+      for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
+      {
+        const Real x = cuts[k], y = cuts[k + 1];
+        const Real s = k == 0 ? p.Start : p.Start + (x - a0) / a1;
+        const Real fx = tf.ToExtinction(x), fy = tf.ToExtinction(y);
+        // Chord of tau over [x, y] in alpha, as a slope in s.
+        const Real slope = (fy - fx) / (y - x) * a1;
+        this->Add(s, fx, slope, p.Colour + p.ColourSlope * (s - p.Start), p.ColourSlope);
+      }
+    }
+    // Prefix counts of visible pieces: a piece is visible unless tau is zero
+    // at both of its ends (tau is linear on it).
+    this->VisibleBefore.assign(1, 0);
+    for (std::size_t i = 0; i < this->Pieces.size(); ++i)
+    {
+      const Piece& p = this->Pieces[i];
+      Real end = p.Tau;
+      if (i + 1 < this->Pieces.size() && i > 0)
+      {
+        end = p.Tau + p.TauSlope * (this->Knots[i] - p.Start);
+      }
+      const bool visible = p.Tau > Real(0) || end > Real(0);
+      this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
+    }
+    this->MaximumColor = tf.GetMaximumColor();
+    return std::string();
+  }
+
+  // The piece holding s: 0 below the first knot, i for s in
+  // [Knots[i - 1], Knots[i]) (right-continuous at jumps), the last one above
+  // the last knot. NaN: 0 (callers never classify a NaN; see PieceWalk).
+  std::size_t Locate(Real s) const
+  {
+    return static_cast<std::size_t>(
+      std::upper_bound(this->Knots.begin(), this->Knots.end(), s) - this->Knots.begin());
+  }
+
+  const Piece& operator[](std::size_t i) const { return this->Pieces[i]; }
+  std::size_t GetNumberOfPieces() const { return this->Pieces.size(); }
+  const std::vector<Real>& GetKnots() const { return this->Knots; }
+  Real GetMaximumColor() const { return this->MaximumColor; }
+
+  bool IsVisible(std::size_t i) const
+  {
+    return this->VisibleBefore[i + 1] > this->VisibleBefore[i];
+  }
+
+  // True when tau > 0 somewhere in [lo, hi].
+  bool AnyVisible(Real lo, Real hi) const
+  {
+    const std::size_t first = this->Locate(lo), last = this->Locate(hi);
+    return this->VisibleBefore[last + 1] > this->VisibleBefore[first];
+  }
+
+private:
+  void Add(Real s, Real tau, Real tauSlope, const Color& colour, const Color& colourSlope)
+  {
+    if (!this->Knots.empty() && s <= this->Knots.back())
+    {
+      // A jump (a knot given twice) or a cut rounded onto its neighbour: the
+      // later piece starts there and replaces the empty one.
+      this->Pieces.back() = { s, tau, tauSlope, colour, colourSlope };
+      return;
+    }
+    this->Knots.push_back(s);
+    this->Pieces.push_back({ s, tau, tauSlope, colour, colourSlope });
+  }
+
+  // Alpha values lo = x_0 < x_1 < ... < x_n = hi such that on each [x_k,
+  // x_k+1] the chord of f(a) = -ln(1 - a) is within a relative error r of f.
+  // For z in [x, y], f convex and increasing, with f'' = 1 / (1 - a)^2:
+  //   chord(z) - f(z) <= (z - x)(y - z) f''(y) / 2 <= (y - x)^2 f''(y) / 8,
+  //   f(z) >= f(x) + f'(x)(z - x) >= max(f(x), (z - x) / (1 - x)),
+  // so the relative error is at most min((y - x)(1 - x) / (2 (1 - y)^2),
+  // (y - x)^2 / (8 (1 - y)^2 f(x))). Each cut takes the longest [x, y] (by
+  // halving from hi) that satisfies it.
+  static std::vector<Real> AlphaCuts(Real lo, Real hi, Real r)
+  {
+    std::vector<Real> cuts{ lo };
+    const Real opaque = Real(1);
+    const Real flat = Real(36); // f(x) beyond which the rest is one chord
+    Real x = lo;
+    while (x < hi && cuts.size() < MaximumKnots)
+    {
+      const Real fx = x < opaque ? -std::log(Real(1) - x) : Real(40);
+      if (x >= opaque || fx >= flat)
+      {
+        break;
+      }
+      const Real top = std::min(hi, opaque);
+      Real w = top - x;
+      for (int k = 0; k < 200; ++k)
+      {
+        const Real y = x + w;
+        const Real q = (Real(1) - y) * (Real(1) - y);
+        const Real linear = w * (Real(1) - x) / (Real(2) * q);
+        const Real quadratic = fx > Real(0) ? w * w / (Real(8) * q * fx) : linear;
+        if (q > Real(0) && std::min(linear, quadratic) <= r)
+        {
+          break;
+        }
+        w *= Real(0.5);
+      }
+      const Real y = x + w;
+      if (!(y > x))
+      {
+        break; // below the resolution of Real: the rest is one chord
+      }
+      x = y;
+      cuts.push_back(x);
+    }
+    if (cuts.back() < hi)
+    {
+      cuts.push_back(hi);
+    }
+    return cuts;
+  }
+
+  std::vector<Real> Knots;
+  std::vector<Piece> Pieces;
+  std::vector<std::size_t> VisibleBefore;
+  Real MaximumColor = Real(0);
+};
+
+// s(u) = K[0] + K[1] u + K[2] u^2 + K[3] u^3.
+template <typename Real>
+struct Cubic
+{
+  Real K[4];
+
+  Real operator()(Real u) const
+  {
+    return this->K[0] + u * (this->K[1] + u * (this->K[2] + u * this->K[3]));
+  }
+  Real Derivative(Real u) const
+  {
+    return this->K[1] + u * (Real(2) * this->K[2] + u * Real(3) * this->K[3]);
+  }
+  // The same polynomial in v = u - u0.
+  Cubic Shifted(Real u0) const
+  {
+    Cubic c;
+    c.K[0] = (*this)(u0);
+    c.K[1] = this->Derivative(u0);
+    c.K[2] = this->K[2] + Real(3) * this->K[3] * u0;
+    c.K[3] = this->K[3];
+    return c;
+  }
+};
+
+// One smooth piece of a ray: t in [Begin, Begin + Length], where the scalar is
+// Start + Q(t - Begin) and the transfer function is its piece TF (Q includes
+// the offset: Q(v) = s(Begin + v) - Start).
+template <typename Real>
+struct RayPiece
+{
+  Real Begin;
+  Real Length;
+  Cubic<Real> Q;
+  std::size_t TF;
+};
+
+namespace detail
+{
+// The root of the monotone cubic s - value on [lo, hi], whose ends bracket
+// it: Newton's step where it stays inside the bracket, bisection otherwise.
+template <typename Real>
+Real Crossing(const Cubic<Real>& s, Real value, Real lo, Real hi)
+{
+  const Real sign = s(hi) >= s(lo) ? Real(1) : Real(-1);
+  const Real slo = s(lo), shi = s(hi);
+  Real u = shi != slo ? lo + (hi - lo) * ((value - slo) / (shi - slo)) : Real(0.5) * (lo + hi);
+  u = std::min(std::max(u, lo), hi);
+  for (int i = 0; i < 128 && lo < hi; ++i)
+  {
+    const Real f = sign * (s(u) - value);
+    if (f == Real(0))
+    {
+      return u;
+    }
+    (f < Real(0) ? lo : hi) = u;
+    const Real d = sign * s.Derivative(u);
+    const Real newton = d > Real(0) ? u - f / d : std::numeric_limits<Real>::quiet_NaN();
+    const Real next = newton > lo && newton < hi ? newton : Real(0.5) * (lo + hi);
+    if (next == u || hi - lo <= Real(4) * std::numeric_limits<Real>::epsilon() * std::abs(hi))
+    {
+      return next;
+    }
+    u = next;
+  }
+  return u;
+}
+
+// Roots of a u^2 + b u + c in (0, end), ascending; at most 2.
+template <typename Real>
+int QuadraticRoots(Real a, Real b, Real c, Real end, Real roots[2])
+{
+  int n = 0;
+  Real r[2];
+  const Real scale = std::max({ std::abs(a) * end * end, std::abs(b) * end, std::abs(c) });
+  if (scale == Real(0))
+  {
+    return 0;
+  }
+  if (std::abs(a) * end * end <= Real(1e-12) * scale)
+  {
+    if (b != Real(0))
+    {
+      r[n++] = -c / b;
+    }
+  }
+  else
+  {
+    const Real disc = b * b - Real(4) * a * c;
+    if (disc >= Real(0))
+    {
+      // Stable: no cancellation between b and the root of disc.
+      const Real q = Real(-0.5) * (b + std::copysign(std::sqrt(disc), b));
+      if (q != Real(0))
+      {
+        r[n++] = q / a;
+        r[n++] = c / q;
+      }
+      else
+      {
+        r[n++] = Real(0);
+      }
+    }
+  }
+  int count = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    if (r[i] > Real(0) && r[i] < end)
+    {
+      roots[count++] = r[i];
+    }
+  }
+  if (count == 2 && roots[0] > roots[1])
+  {
+    std::swap(roots[0], roots[1]);
+  }
+  return count;
+}
+} // namespace detail
+
+// Walks the ray origin + t direction (grid coordinates, t in the caller's
+// units) over [tBegin, tEnd], inside the volume's box, and calls
+// visit(const RayPiece&) for every smooth piece whose transfer-function piece
+// is visible, front to back; visit returns false to stop the walk. Cells
+// whose corners the transfer function maps to tau = 0 are passed over
+// without building their cubic, and so are cells with a non-finite corner
+// (the interpolant is undefined there: transparent, as a NaN sample is).
+// `cells` counts the cells whose cubic was built. Returns false when stopped.
+template <typename Real, typename VolumeT, typename Visit>
+bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, Real tBegin, Real tEnd,
+  const PiecewiseTransferFunction<Real>& tf, long& cells, Visit&& visit)
+{
+  if (!(tBegin < tEnd))
+  {
+    return true;
+  }
+  int n[3], index[3], step[3];
+  Real tMax[3], tDelta[3];
+  const glm::vec<3, Real> p = origin + tBegin * direction;
+  for (int a = 0; a < 3; ++a)
+  {
+    n[a] = volume.GetDimension(a) - 1; // cells along the axis
+    const Real x = std::min(std::max(p[a], Real(0)), Real(n[a]));
+    index[a] = std::min(static_cast<int>(x), n[a] - 1);
+    if (direction[a] > Real(0))
+    {
+      step[a] = 1;
+      tMax[a] = (Real(index[a] + 1) - origin[a]) / direction[a];
+      tDelta[a] = Real(1) / direction[a];
+    }
+    else if (direction[a] < Real(0))
+    {
+      step[a] = -1;
+      tMax[a] = (Real(index[a]) - origin[a]) / direction[a];
+      tDelta[a] = -Real(1) / direction[a];
+    }
+    else
+    {
+      step[a] = 0;
+      tMax[a] = std::numeric_limits<Real>::infinity();
+      tDelta[a] = tMax[a];
+    }
+  }
+  const std::vector<Real>& knots = tf.GetKnots();
+  Real t = tBegin;
+  const int maximumCells = n[0] + n[1] + n[2] + 3;
+  for (int visited = 0; visited < maximumCells && t < tEnd; ++visited)
+  {
+    const int axis = tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
+    const Real t1 = std::min(tMax[axis], tEnd);
+    if (t1 > t)
+    {
+      Real c[8];
+      volume.GetCorners(index[0], index[1], index[2], c);
+      const Real lo = *std::min_element(c, c + 8), hi = *std::max_element(c, c + 8);
+      // The sum is finite only when every corner is (a NaN escapes min/max).
+      const bool finite = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
+      if (finite && tf.AnyVisible(lo, hi))
+      {
+        ++cells;
+        // The cubic in u = t - t (cell entry), from the trilinear form
+        // f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz in the cell's frame.
+        const glm::vec<3, Real> e = origin + t * direction -
+          glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2]));
+        const Real A = c[0], B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
+        const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
+        const Real G = c[6] - c[4] - c[2] + c[0];
+        const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
+        const Real x = e.x, y = e.y, z = e.z;
+        const Real dx = direction.x, dy = direction.y, dz = direction.z;
+        Cubic<Real> s;
+        s.K[0] = A + B * x + C * y + D * z + E * x * y + F * x * z + G * y * z + H * x * y * z;
+        s.K[1] = dx * (B + E * y + F * z + H * y * z) + dy * (C + E * x + G * z + H * x * z) +
+          dz * (D + F * x + G * y + H * x * y);
+        s.K[2] = dx * dy * (E + H * z) + dx * dz * (F + H * y) + dy * dz * (G + H * x);
+        s.K[3] = H * dx * dy * dz;
+        const Real length = t1 - t;
+        // Monotone stretches: split at the extrema inside the cell.
+        Real bounds[4];
+        int count = 0;
+        bounds[count++] = Real(0);
+        Real roots[2];
+        const int r = detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
+        for (int i = 0; i < r; ++i)
+        {
+          bounds[count++] = roots[i];
+        }
+        bounds[count++] = length;
+        for (int b = 0; b + 1 < count; ++b)
+        {
+          const Real ua = bounds[b], ub = bounds[b + 1];
+          const Real sa = s(ua), sb = s(ub);
+          const bool rising = sb >= sa;
+          const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
+          // Knots strictly inside (slo, shi), in the order the ray meets them.
+          const std::size_t k0 = static_cast<std::size_t>(
+            std::upper_bound(knots.begin(), knots.end(), slo) - knots.begin());
+          const std::size_t k1 = static_cast<std::size_t>(
+            std::lower_bound(knots.begin(), knots.end(), shi) - knots.begin());
+          const std::size_t crossings = k1 > k0 ? k1 - k0 : 0;
+          Real u = ua;
+          for (std::size_t j = 0; j <= crossings; ++j)
+          {
+            Real next = ub;
+            if (j < crossings)
+            {
+              const Real value = knots[rising ? k0 + j : k1 - 1 - j];
+              next = std::min(std::max(detail::Crossing(s, value, ua, ub), u), ub);
+            }
+            if (next > u)
+            {
+              // The transfer-function piece from the scalar in the middle:
+              // robust where a crossing rounds onto a knot.
+              const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
+              if (tf.IsVisible(piece))
+              {
+                RayPiece<Real> rp;
+                rp.Begin = t + u;
+                rp.Length = next - u;
+                rp.Q = s.Shifted(u);
+                rp.Q.K[0] -= tf[piece].Start;
+                rp.TF = piece;
+                if (!visit(rp))
+                {
+                  return false;
+                }
+              }
+            }
+            u = std::max(u, next);
+          }
+        }
+      }
+    }
+    t = std::max(t, t1);
+    index[axis] += step[axis];
+    if (index[axis] < 0 || index[axis] >= n[axis])
+    {
+      break;
+    }
+    tMax[axis] += tDelta[axis];
+  }
+  return true;
+}
+
+} // namespace numerics
+} // namespace avos
+
+#endif
