@@ -133,7 +133,7 @@ void DefaultTransferFunction(const double range[2], double voxel, vtkVolumePrope
 }
 
 const std::vector<std::string> MethodSettings::Methods = { "riemann", "coupled", "decoupled",
-  "reference", "vtk-fixed-point", "vtk-gpu" };
+  "piecewise", "reference", "vtk-fixed-point", "vtk-gpu" };
 
 std::string MethodSettings::Label() const
 {
@@ -142,6 +142,10 @@ std::string MethodSettings::Label() const
   if (this->Method == "coupled" || this->Method == "decoupled")
   {
     out << " eps " << this->Tolerance << " (hmin " << this->HMin << ", hmax " << this->HMax << ")";
+  }
+  else if (this->Method == "piecewise")
+  {
+    out << " eps " << this->Tolerance;
   }
   else if (this->Method != "reference")
   {
@@ -175,6 +179,7 @@ vtkSmartPointer<vtkVolumeMapper> MakeMapper(const MethodSettings& settings, doub
   const std::map<std::string, int> methods = { { "riemann", vtkAdaptiveVolumeMapper::RIEMANN },
     { "coupled", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED },
     { "decoupled", vtkAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED },
+    { "piecewise", vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE },
     { "reference", vtkAdaptiveVolumeMapper::REFERENCE } };
   const auto method = methods.find(settings.Method);
   if (method == methods.end())

@@ -1,8 +1,8 @@
 // avos-render: render a volume with vtkAdaptiveVolumeMapper (or, side by
 // side, with VTK's own mappers) to an image and a JSON report.
 //
-//   avos-render INPUT [--tf FILE.tf1d] [--method riemann|coupled|decoupled|reference|
-//               vtk-fixed-point|vtk-gpu] [--opacity extinction|vtk] [--tolerance E]
+//   avos-render INPUT [--tf FILE.tf1d] [--method riemann|coupled|decoupled|piecewise|
+//               reference|vtk-fixed-point|vtk-gpu] [--opacity extinction|vtk] [--tolerance E]
 //               [--step H] [--h0 H] [--hmin H] [--hmax H] [--size WxH] [--azimuth DEG]
 //               [--elevation DEG] [--zoom Z] [--frames N] [--threads N]
 //               [--output FILE.png|FILE.exr] [--report FILE.json] [--compare REF.exr]
@@ -41,7 +41,7 @@ namespace app = avos::app;
 
 const char* Usage =
   "usage: avos-render INPUT [--tf FILE.tf1d]\n"
-  "         [--method riemann|coupled|decoupled|reference|vtk-fixed-point|vtk-gpu]\n"
+  "         [--method riemann|coupled|decoupled|piecewise|reference|vtk-fixed-point|vtk-gpu]\n"
   "         [--opacity extinction|vtk] [--tolerance E] [--step H] [--h0 H] [--hmin H]\n"
   "         [--hmax H] [--size WxH] [--azimuth DEG] [--elevation DEG] [--zoom Z]\n"
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
@@ -340,6 +340,11 @@ int main(int argc, char* argv[])
   {
     std::cout << ", " << adaptive->GetRaysCast() << " rays, " << adaptive->GetMeanSamplesPerRay()
               << " samples per ray";
+    if (adaptive->GetMeanPiecesPerRay() > 0.0)
+    {
+      std::cout << " (" << adaptive->GetMeanCellsPerRay() << " cells, "
+                << adaptive->GetMeanPiecesPerRay() << " pieces)";
+    }
   }
   std::cout << "\n";
 
@@ -391,7 +396,9 @@ int main(int argc, char* argv[])
       report << "  \"rays_cast\": " << adaptive->GetRaysCast() << ",\n"
              << "  \"mean_samples_per_ray\": " << adaptive->GetMeanSamplesPerRay() << ",\n"
              << "  \"max_samples_per_ray\": " << adaptive->GetMaximumSamplesPerRay() << ",\n"
-             << "  \"rejected_steps\": " << adaptive->GetRejectedSteps() << "\n";
+             << "  \"rejected_steps\": " << adaptive->GetRejectedSteps() << ",\n"
+             << "  \"mean_cells_per_ray\": " << adaptive->GetMeanCellsPerRay() << ",\n"
+             << "  \"mean_pieces_per_ray\": " << adaptive->GetMeanPiecesPerRay() << "\n";
     }
     else
     {

@@ -34,7 +34,8 @@ if not os.path.exists(VOLUME):
     sys.exit(125)
 
 os.makedirs(SCRATCH, exist_ok=True)
-for method in ["riemann", "coupled", "decoupled", "reference", "vtk-fixed-point", "vtk-gpu"]:
+for method in ["riemann", "coupled", "decoupled", "piecewise", "reference", "vtk-fixed-point",
+               "vtk-gpu"]:
     png = os.path.join(SCRATCH, method + ".png")
     report = os.path.join(SCRATCH, method + ".json")
     for path in (png, report):
@@ -52,6 +53,9 @@ for method in ["riemann", "coupled", "decoupled", "reference", "vtk-fixed-point"
               method + " report fields")
         if not method.startswith("vtk-"):
             check(r["rays_cast"] > 0 and r["mean_samples_per_ray"] > 1, method + " statistics")
+        if method == "piecewise":
+            check(r["mean_pieces_per_ray"] > 1 and r["mean_cells_per_ray"] > 1,
+                  "piecewise reports cells and pieces")
     else:
         check(False, method + " writes a report")
 
@@ -139,6 +143,12 @@ run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "reference", "--output", 
 code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "riemann", "--step", "1",
                 "--compare", reference, "--report", report)
 check(code == 0 and "SSIM" in out, "compare runs: " + out)
+# The piecewise method at eps 1e-3: no channel of any pixel off by more than 2 eps.
+pw_report = os.path.join(SCRATCH, "compare-piecewise.json")
+code_pw, out_pw = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise",
+                      "--tolerance", "0.001", "--compare", reference, "--report", pw_report)
+check(code_pw == 0 and max(json.load(open(pw_report))["compare"]["max_error_rgba"]) <= 0.002,
+      "piecewise within 2 eps of the reference: " + out_pw)
 if code == 0:
     c = json.load(open(report))["compare"]
     check(c["pixels"] > 0 and all(0.0 < v <= 1.0 for v in c["ssim_rgba"]) and

@@ -23,6 +23,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/TransferFunction.h"
 #include "avos/numerics/Volume.h"
@@ -64,6 +65,8 @@ struct ThreadStatistics
   vtkIdType Samples = 0;
   vtkIdType MaximumSamples = 0;
   vtkIdType Rejected = 0;
+  vtkIdType Cells = 0;
+  vtkIdType Pieces = 0;
 };
 
 glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
@@ -117,6 +120,9 @@ struct Method
   an::AdaptiveSettings<double> Adaptive;
   double SampleDistance = 0.5;
   double TerminationBound = 0.0;
+  // The transfer function cut into linear extinction pieces, for the
+  // piecewise methods (PIECEWISE_ADAPTIVE; REFERENCE in the extinction model).
+  const an::PiecewiseTransferFunction<double>* Pieces = nullptr;
 };
 
 // Integrates the pixel's ray through the visible blocks (all of the box
@@ -156,7 +162,14 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
           segments.data(), segments.size(), method.TerminationBound, steps);
       break;
     case vtkAdaptiveVolumeMapper::REFERENCE:
-      result = an::IntegrateReference(field, tf, segments.data(), segments.size());
+      result = method.Pieces
+        ? an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
+            *method.Pieces, an::PiecewiseReferenceTolerance<double>())
+        : an::IntegrateReference(field, tf, segments.data(), segments.size());
+      break;
+    case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
+      result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
+        *method.Pieces, method.Adaptive.Tolerance, true, steps);
       break;
     default:
       result =
@@ -227,6 +240,8 @@ private:
     stats.Samples += result.Statistics.Samples;
     stats.MaximumSamples = std::max<vtkIdType>(stats.MaximumSamples, result.Statistics.Samples);
     stats.Rejected += result.Statistics.Rejected;
+    stats.Cells += result.Statistics.Cells;
+    stats.Pieces += result.Statistics.Pieces;
   }
 
   an::TrilinearVolume<double, Storage> Volume;
@@ -255,6 +270,11 @@ public:
   double Voxel = 0.0;
   vtkTimeStamp ClassifyTime;
   std::size_t VisibleBlocks = 0;
+  // The transfer function in pieces, built for a relative error (the alpha
+  // model's share of the tolerance) when a piecewise method needs it.
+  an::PiecewiseTransferFunction<double> Pieces;
+  double PiecesRelativeError = 0.0;
+  vtkTimeStamp PiecesTime;
 
   // Frame: what the last image depends on.
   std::array<double, 16> Projection{};
@@ -306,6 +326,8 @@ const char* vtkAdaptiveVolumeMapper::GetIntegrationMethodAsString()
       return "AdaptiveCoupled";
     case ADAPTIVE_DECOUPLED:
       return "AdaptiveDecoupled";
+    case PIECEWISE_ADAPTIVE:
+      return "PiecewiseAdaptive";
     default:
       return "Reference";
   }
@@ -363,6 +385,22 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< "Invalid integration settings: " << invalid << " (tolerance "
                   << this->Tolerance << ", steps " << this->InitialStep << " / "
                   << this->MinimumStep << " / " << this->MaximumStep << ").");
+    return fail();
+  }
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
+    !(this->Tolerance >= an::PiecewiseMinimumTolerance<double>() && this->Tolerance <= 1.0))
+  {
+    vtkErrorMacro(<< "The piecewise method's tolerance must be in [1e-12, 1], not "
+                  << this->Tolerance << ".");
+    return fail();
+  }
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE && this->OpacityModel == VTK_OPACITY &&
+    this->Tolerance < 8e-7)
+  {
+    vtkErrorMacro(<< "In VTK's opacity model the piecewise method's tolerance must be at least "
+                     "8e-7 (its extinction -ln(1 - alpha) is approximated within a relative eps / 8 "
+                     "between extra knots), not "
+                  << this->Tolerance << ".");
     return fail();
   }
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
@@ -478,6 +516,32 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.OpacityModel = this->OpacityModel;
     internals.Voxel = voxel;
     internals.ClassifyTime.Modified();
+  }
+
+  // Transfer function -> linear extinction pieces, for the piecewise methods.
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY);
+  if (piecewise)
+  {
+    // The relative error only matters in VTK's alpha model (the extinction
+    // model's pieces are exact); the reference never uses the alpha model here.
+    const double relativeError = this->IntegrationMethod == PIECEWISE_ADAPTIVE
+      ? an::PiecewiseRelativeError(this->Tolerance)
+      : an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>());
+    if (internals.PiecesTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
+      relativeError != internals.PiecesRelativeError)
+    {
+      const std::string error = internals.Pieces.Build(internals.TF, relativeError);
+      if (!error.empty())
+      {
+        vtkErrorMacro(<< "The piecewise method cannot use this transfer function at tolerance "
+                      << this->Tolerance << ": " << error << ".");
+        internals.PiecesRelativeError = 0.0;
+        return fail();
+      }
+      internals.PiecesRelativeError = relativeError;
+      internals.PiecesTime.Modified();
+    }
   }
 
   // Frame: camera, viewport, image size and depth buffer.
@@ -612,6 +676,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Adaptive.FieldMaximum = scalars->GetRange(0)[1];
     method.SampleDistance = this->SampleDistance;
     method.TerminationBound = 0.2 * this->Tolerance;
+    method.Pieces = piecewise ? &internals.Pieces : nullptr;
 
     vtkSMPThreadLocal<ThreadStatistics> statistics;
     vtkSMPThreadLocal<Segments> segments;
@@ -653,12 +718,17 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       total.Samples += s.Samples;
       total.MaximumSamples = std::max(total.MaximumSamples, s.MaximumSamples);
       total.Rejected += s.Rejected;
+      total.Cells += s.Cells;
+      total.Pieces += s.Pieces;
     }
     this->RaysCast = total.Rays;
     this->MeanSamplesPerRay =
       total.Rays > 0 ? static_cast<double>(total.Samples) / static_cast<double>(total.Rays) : 0.0;
     this->MaximumSamplesPerRay = total.MaximumSamples;
     this->RejectedSteps = total.Rejected;
+    const double rays = static_cast<double>(std::max<vtkIdType>(total.Rays, 1));
+    this->MeanCellsPerRay = static_cast<double>(total.Cells) / rays;
+    this->MeanPiecesPerRay = static_cast<double>(total.Pieces) / rays;
 
     // 16-bit premultiplied RGBA for the display helper.
     internals.Display.resize(4 * static_cast<std::size_t>(width) * height);
@@ -788,5 +858,7 @@ void vtkAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MeanSamplesPerRay: " << this->MeanSamplesPerRay << "\n";
   os << indent << "MaximumSamplesPerRay: " << this->MaximumSamplesPerRay << "\n";
   os << indent << "RejectedSteps: " << this->RejectedSteps << "\n";
+  os << indent << "MeanCellsPerRay: " << this->MeanCellsPerRay << "\n";
+  os << indent << "MeanPiecesPerRay: " << this->MeanPiecesPerRay << "\n";
   os << indent << "LastRenderReused: " << this->LastRenderReused << "\n";
 }
