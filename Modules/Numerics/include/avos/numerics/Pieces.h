@@ -11,16 +11,18 @@
 // rendering do, and hands each piece with its cubic and its transfer-function
 // piece to the caller (see PiecewiseIntegrator.h).
 //
-// PiecewiseTransferFunction gives tau and C linear in s on each piece. In the
-// extinction model the knots are tau already. In VTK's alpha model
-// tau = -ln(1 - alpha) / d is not linear in s; each linear alpha segment is
-// cut at extra knots so that the linear interpolant of tau is within a
-// relative error r of the true tau everywhere (tau is convex in alpha, so the
-// chord bounds it from above). A relative error r in tau changes every channel
-// of a ray by at most 2 r (1 + O(r)) (see PiecewiseIntegrator.h), whatever the
-// ray. Alpha values of 1 and above are opaque (tau = 40 / d, as in
-// TransferFunction); the extra knots stop where tau reaches 36 / d (1 - alpha
-// below 2.3e-16), where the chord up to the opaque value is within 11 %.
+// PiecewiseTransferFunction gives C linear and tau quadratic in s on each
+// piece (so the optical depth along a piece stays the integral of a
+// polynomial). In the extinction model the knots are tau already: linear. In
+// VTK's alpha model tau = -ln(1 - alpha) / d is not a polynomial in s; each
+// linear alpha segment is cut at extra knots so that the quadratic
+// interpolating tau at both ends and the middle of each cut is within a
+// relative error r of the true tau everywhere. A relative error r in tau
+// changes every channel of a ray by at most 2 r (1 + O(r)) (see
+// PiecewiseIntegrator.h), whatever the ray. Alpha values of 1 and above are
+// opaque (tau = 40 / d, as in TransferFunction); the extra knots stop where
+// tau reaches 36 / d (1 - alpha below 2.3e-16), and the chord from there up
+// to the opaque value is within 11 %.
 //
 // Bounds (termination). A ray segment of the volume's box crosses at most
 // nx + ny + nz cells; a cell's cubic has at most 3 monotone stretches, and a
@@ -52,12 +54,14 @@ class PiecewiseTransferFunction
 public:
   using Color = glm::vec<3, Real>;
 
-  // tau(s) = Tau + TauSlope (s - Start), C(s) = Colour + ColourSlope (s - Start).
+  // tau(s) = Tau + TauSlope d + TauCurvature d^2, C(s) = Colour + ColourSlope d,
+  // d = s - Start.
   struct Piece
   {
     Real Start;
     Real Tau;
     Real TauSlope;
+    Real TauCurvature;
     Color Colour;
     Color ColourSlope;
   };
@@ -91,14 +95,15 @@ public:
     }
     // Below the first knot: the first values, constant.
     this->Pieces.push_back({ pieces.front().Start, tf.ToExtinction(tf.GetOpacityBelow()), Real(0),
-      tf.GetColorBelow(), Color(Real(0)) });
+      Real(0), tf.GetColorBelow(), Color(Real(0)) });
     for (const auto& p : pieces)
     {
       const Real a0 = p.Opacity;
       const Real a1 = p.Length > Real(0) ? p.OpacitySlope : Real(0);
       if (!alpha || a1 == Real(0))
       {
-        this->Add(p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, p.Colour, p.ColourSlope);
+        this->Add(
+          p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, Real(0), p.Colour, p.ColourSlope);
         continue;
       }
       // The alpha model on a sloped segment: extra knots, in alpha from the
@@ -115,12 +120,23 @@ public:
       }
       for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
       {
-        const Real x = cuts[k], y = cuts[k + 1];
+        // In alpha, u = alpha - x over the cut [x, y] (w = y - x < 0 where
+        // alpha falls along s): tau = fx + A u + B u^2 through x, the middle
+        // and y; the chord where tau nears the opaque clamp. In s,
+        // u = a1 (s - start).
+        const Real x = cuts[k], y = cuts[k + 1], w = y - x;
         const Real s = k == 0 ? p.Start : p.Start + (x - a0) / a1;
         const Real fx = tf.ToExtinction(x), fy = tf.ToExtinction(y);
-        // Chord of tau over [x, y] in alpha, as a slope in s.
-        const Real slope = (fy - fx) / (y - x) * a1;
-        this->Add(s, fx, slope, p.Colour + p.ColourSlope * (s - p.Start), p.ColourSlope);
+        const Real flat = Real(36) / tf.GetUnitDistance();
+        Real B = Real(0);
+        if (fx < flat && fy < flat && std::max(x, y) < Real(1))
+        {
+          const Real fm = tf.ToExtinction(x + Real(0.5) * w);
+          B = Real(2) * (fx - Real(2) * fm + fy) / (w * w);
+        }
+        const Real A = (fy - fx) / w - B * w;
+        this->Add(s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start),
+          p.ColourSlope);
       }
     }
     // Prefix counts of visible pieces: a piece is visible unless tau is zero
@@ -132,7 +148,8 @@ public:
       Real end = p.Tau;
       if (i + 1 < this->Pieces.size() && i > 0)
       {
-        end = p.Tau + p.TauSlope * (this->Knots[i] - p.Start);
+        const Real d = this->Knots[i] - p.Start;
+        end = p.Tau + d * (p.TauSlope + d * p.TauCurvature);
       }
       const bool visible = p.Tau > Real(0) || end > Real(0);
       this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
@@ -168,26 +185,30 @@ public:
   }
 
 private:
-  void Add(Real s, Real tau, Real tauSlope, const Color& colour, const Color& colourSlope)
+  void Add(Real s, Real tau, Real tauSlope, Real tauCurvature, const Color& colour,
+    const Color& colourSlope)
   {
+    const Piece piece{ s, tau, tauSlope, tauCurvature, colour, colourSlope };
     if (!this->Knots.empty() && s <= this->Knots.back())
     {
-      // A jump (a knot given twice) or a cut rounded onto its neighbour: the
-      // later piece starts there and replaces the empty one.
-      this->Pieces.back() = { s, tau, tauSlope, colour, colourSlope };
+      // A cut rounded onto its neighbour: the later piece starts there and
+      // replaces the empty one.
+      this->Pieces.back() = piece;
       return;
     }
     this->Knots.push_back(s);
-    this->Pieces.push_back({ s, tau, tauSlope, colour, colourSlope });
+    this->Pieces.push_back(piece);
   }
 
   // Alpha values lo = x_0 < x_1 < ... < x_n = hi such that on each [x_k,
-  // x_k+1] the chord of f(a) = -ln(1 - a) is within a relative error r of f.
-  // For z in [x, y], f convex and increasing, with f'' = 1 / (1 - a)^2:
-  //   chord(z) - f(z) <= (z - x)(y - z) f''(y) / 2 <= (y - x)^2 f''(y) / 8,
+  // x_k+1] the quadratic interpolating f(a) = -ln(1 - a) at the ends and the
+  // middle m is within a relative error r of f. For z in [x, y], w = y - x,
+  // f increasing with f''' = 2 / (1 - a)^3 increasing:
+  //   |p(z) - f(z)| <= f'''(y) / 6 |z - x| |z - m| |z - y|
+  //                 <= f'''(y) min((z - x) w^2 / 2, w^3 / (12 sqrt 3)) / 6,
   //   f(z) >= f(x) + f'(x)(z - x) >= max(f(x), (z - x) / (1 - x)),
-  // so the relative error is at most min((y - x)(1 - x) / (2 (1 - y)^2),
-  // (y - x)^2 / (8 (1 - y)^2 f(x))). Each cut takes the longest [x, y] (by
+  // so the relative error is at most min(w^2 (1 - x) / (6 (1 - y)^3),
+  // w^3 / (36 sqrt 3 (1 - y)^3 f(x))). Each cut takes the longest [x, y] (by
   // halving from hi) that satisfies it.
   static std::vector<Real> AlphaCuts(Real lo, Real hi, Real r)
   {
@@ -207,10 +228,10 @@ private:
       for (int k = 0; k < 200; ++k)
       {
         const Real y = x + w;
-        const Real q = (Real(1) - y) * (Real(1) - y);
-        const Real linear = w * (Real(1) - x) / (Real(2) * q);
-        const Real quadratic = fx > Real(0) ? w * w / (Real(8) * q * fx) : linear;
-        if (q > Real(0) && std::min(linear, quadratic) <= r)
+        const Real q = (Real(1) - y) * (Real(1) - y) * (Real(1) - y);
+        const Real nearX = w * w * (Real(1) - x) / (Real(6) * q);
+        const Real overall = fx > Real(0) ? w * w * w / (Real(62.353829072479584) * q * fx) : nearX;
+        if (q > Real(0) && std::min(nearX, overall) <= r)
         {
           break;
         }

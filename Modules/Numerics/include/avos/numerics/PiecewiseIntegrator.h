@@ -12,9 +12,10 @@
 // known in closed form but one scalar integral:
 //
 // On a piece, v in [0, l] from its start, the scalar is s = Start + q(v) with
-// q a cubic, and tau(v) = a + b q(v), C(v) = c0 + c1 q(v) are linear in q.
-// - Inner integral (optical depth), exact:
-//     theta(v) = a v + b (q0 v + q1 v^2 / 2 + q2 v^3 / 3 + q3 v^4 / 4).
+// q a cubic, tau(v) = a + b q(v) + c q(v)^2 (c = 0 but in VTK's alpha model,
+// Pieces.h) and C(v) = c0 + c1 q(v).
+// - Inner integral (optical depth), exact: the integral of a polynomial,
+//     theta(v) = a v + b int_0^v q + c int_0^v q^2.
 // - Outer integral, by parts (d/dv e^{-theta} = -tau e^{-theta}):
 //     int C tau T = C(0) T(0) - C(l) T(l) + c1 T(0) J,
 //     J = int_0^l q'(v) e^{-theta(v)} dv,
@@ -97,14 +98,44 @@ constexpr Real PiecewiseReferenceTolerance()
 
 namespace detail
 {
-// theta(v) on a piece: the exact integral of tau = a + b q over [0, v].
+// theta(v) on a piece, the exact integral of tau = a + b q + c q^2 over
+// [0, v]: a polynomial of degree 7 in v, D[k] its coefficient of v^k.
 template <typename Real>
-Real PieceDepth(const Cubic<Real>& q, Real a, Real b, Real v)
+struct PieceDepth
 {
-  const Real integral =
-    v * (q.K[0] + v * (q.K[1] / Real(2) + v * (q.K[2] / Real(3) + v * q.K[3] / Real(4))));
-  return a * v + b * integral;
-}
+  Real D[8];
+
+  PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c)
+  {
+    Real square[7] = { 0, 0, 0, 0, 0, 0, 0 };
+    if (c != Real(0))
+    {
+      for (int i = 0; i < 4; ++i)
+      {
+        for (int j = 0; j < 4; ++j)
+        {
+          square[i + j] += q.K[i] * q.K[j];
+        }
+      }
+    }
+    this->D[0] = Real(0);
+    for (int k = 0; k < 7; ++k)
+    {
+      const Real tau = (k == 0 ? a : Real(0)) + (k < 4 ? b * q.K[k] : Real(0)) + c * square[k];
+      this->D[k + 1] = tau / Real(k + 1);
+    }
+  }
+
+  Real operator()(Real v) const
+  {
+    Real r = this->D[7];
+    for (int k = 6; k >= 0; --k)
+    {
+      r = r * v + this->D[k];
+    }
+    return std::max(r, Real(0));
+  }
+};
 } // namespace detail
 
 template <typename Real, typename VolumeT>
@@ -157,11 +188,11 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     const auto& p = tf[piece.TF];
     const Cubic<Real>& q = piece.Q;
     const Real l = piece.Length;
-    const Real a = p.Tau, b = p.TauSlope;
+    const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature);
     ++stats.Pieces;
     ++stats.Samples; // the piece's end
     stats.Accept(l);
-    const Real thetaL = std::max(detail::PieceDepth(q, a, b, l), Real(0));
+    const Real thetaL = depth(l);
     const Real EL = std::exp(-thetaL);
     const Real Ta = T, Tb = T * EL;
     color += Ta * (p.Colour + p.ColourSlope * q.K[0]) - Tb * (p.Colour + p.ColourSlope * q(l));
@@ -188,7 +219,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
         auto at = [&](Real v)
         {
           ++stats.Samples;
-          const Real E = std::exp(-std::max(detail::PieceDepth(q, a, b, v), Real(0)));
+          const Real E = std::exp(-depth(v));
           return Point{ q.Derivative(v) * E, E };
         };
         const Real floor = l * Real(9.3e-10); // 2^-30
