@@ -321,3 +321,38 @@ TEST(Piecewise, BadInput)
   EXPECT_NE(p.Build(alpha, 1e-9), ""); // below the alpha model's floor
   EXPECT_EQ(p.Build(alpha, 1e-4), "");
 }
+
+// Locate's bucket grid answers exactly what std::upper_bound does, and
+// CountBelow what std::lower_bound does, on knots with clusters and jumps,
+// at the knots themselves and next to them.
+TEST(Piecewise, LocateEqualsBinarySearch)
+{
+  for (unsigned seed = 0; seed < 20; ++seed)
+  {
+    const an::TransferFunction<double> tf = adversarial::Random(seed, 4 + 50 * (seed % 4), 2.0);
+    an::PiecewiseTransferFunction<double> p;
+    ASSERT_EQ(p.Build(tf, 1e-3), "");
+    const std::vector<double>& knots = p.GetKnots();
+    std::vector<double> probes{ -1.0, 300.0 };
+    for (double k : knots)
+    {
+      probes.insert(probes.end(),
+        { k, std::nextafter(k, -1e9), std::nextafter(k, 1e9), k + 1e-3, k - 1e-3 });
+    }
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-5.0, 260.0);
+    for (int i = 0; i < 1000; ++i)
+    {
+      probes.push_back(u(rng));
+    }
+    for (double s : probes)
+    {
+      ASSERT_EQ(p.Locate(s),
+        static_cast<std::size_t>(std::upper_bound(knots.begin(), knots.end(), s) - knots.begin()))
+        << s;
+      ASSERT_EQ(p.CountBelow(s),
+        static_cast<std::size_t>(std::lower_bound(knots.begin(), knots.end(), s) - knots.begin()))
+        << s;
+    }
+  }
+}

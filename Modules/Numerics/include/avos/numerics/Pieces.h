@@ -155,16 +155,60 @@ public:
       this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
     }
     this->MaximumColor = tf.GetMaximumColor();
+    // Locate()'s grid: about four buckets per knot over [first, last knot],
+    // each with the number of knots at or below its lower edge.
+    const std::size_t m = this->Knots.size();
+    const Real span = this->Knots.back() - this->Knots.front();
+    const std::size_t buckets = std::min<std::size_t>(4 * m, std::size_t(1) << 16);
+    this->BucketScale = span > Real(0) ? Real(buckets) / span : Real(0);
+    this->Buckets.clear();
+    for (std::size_t b = 0; b < buckets; ++b)
+    {
+      const Real edge = this->Knots.front() + span * Real(b) / Real(buckets);
+      this->Buckets.push_back(static_cast<std::size_t>(
+        std::upper_bound(this->Knots.begin(), this->Knots.end(), edge) - this->Knots.begin()));
+    }
     return std::string();
   }
 
   // The piece holding s: 0 below the first knot, i for s in
   // [Knots[i - 1], Knots[i]) (right-continuous at jumps), the last one above
-  // the last knot. NaN: 0 (callers never classify a NaN; see PieceWalk).
+  // the last knot (std::upper_bound's answer, in constant time: the bucket's
+  // guess corrected by comparisons, exact whatever its rounding). NaN: 0
+  // (callers never classify a NaN; see PieceWalk).
   std::size_t Locate(Real s) const
   {
-    return static_cast<std::size_t>(
-      std::upper_bound(this->Knots.begin(), this->Knots.end(), s) - this->Knots.begin());
+    const std::size_t m = this->Knots.size();
+    if (!(s >= this->Knots.front()))
+    {
+      return 0;
+    }
+    if (s >= this->Knots.back())
+    {
+      return m;
+    }
+    const Real x = (s - this->Knots.front()) * this->BucketScale;
+    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
+    while (i < m && this->Knots[i] <= s)
+    {
+      ++i;
+    }
+    while (i > 0 && this->Knots[i - 1] > s)
+    {
+      --i;
+    }
+    return i;
+  }
+
+  // The number of knots strictly below s (std::lower_bound's answer).
+  std::size_t CountBelow(Real s) const
+  {
+    std::size_t i = this->Locate(s);
+    while (i > 0 && this->Knots[i - 1] == s)
+    {
+      --i;
+    }
+    return i;
   }
 
   const Piece& operator[](std::size_t i) const { return this->Pieces[i]; }
@@ -256,6 +300,8 @@ private:
   std::vector<Piece> Pieces;
   std::vector<std::size_t> VisibleBefore;
   Real MaximumColor = Real(0);
+  std::vector<std::size_t> Buckets;
+  Real BucketScale = Real(0); // buckets per unit scalar
 };
 
 // s(u) = K[0] + K[1] u + K[2] u^2 + K[3] u^3.
@@ -475,10 +521,8 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
           const bool rising = sb >= sa;
           const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
           // Knots strictly inside (slo, shi), in the order the ray meets them.
-          const std::size_t k0 = static_cast<std::size_t>(
-            std::upper_bound(knots.begin(), knots.end(), slo) - knots.begin());
-          const std::size_t k1 = static_cast<std::size_t>(
-            std::lower_bound(knots.begin(), knots.end(), shi) - knots.begin());
+          const std::size_t k0 = tf.Locate(slo);
+          const std::size_t k1 = tf.CountBelow(shi);
           const std::size_t crossings = k1 > k0 ? k1 - k0 : 0;
           Real u = ua;
           for (std::size_t j = 0; j <= crossings; ++j)

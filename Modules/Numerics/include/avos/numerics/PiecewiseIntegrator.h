@@ -107,34 +107,37 @@ struct PieceDepth
 
   PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c)
   {
-    Real square[7] = { 0, 0, 0, 0, 0, 0, 0 };
+    this->D[0] = Real(0);
+    this->D[1] = a + b * q.K[0];
+    this->D[2] = b * q.K[1] / Real(2);
+    this->D[3] = b * q.K[2] / Real(3);
+    this->D[4] = b * q.K[3] / Real(4);
+    this->Degree = 4;
     if (c != Real(0))
     {
-      for (int i = 0; i < 4; ++i)
+      const Real* k = q.K;
+      const Real square[7] = { k[0] * k[0], Real(2) * k[0] * k[1],
+        Real(2) * k[0] * k[2] + k[1] * k[1], Real(2) * (k[0] * k[3] + k[1] * k[2]),
+        Real(2) * k[1] * k[3] + k[2] * k[2], Real(2) * k[2] * k[3], k[3] * k[3] };
+      for (int i = 0; i < 7; ++i)
       {
-        for (int j = 0; j < 4; ++j)
-        {
-          square[i + j] += q.K[i] * q.K[j];
-        }
+        this->D[i + 1] = (i < 4 ? this->D[i + 1] : Real(0)) + c * square[i] / Real(i + 1);
       }
-    }
-    this->D[0] = Real(0);
-    for (int k = 0; k < 7; ++k)
-    {
-      const Real tau = (k == 0 ? a : Real(0)) + (k < 4 ? b * q.K[k] : Real(0)) + c * square[k];
-      this->D[k + 1] = tau / Real(k + 1);
+      this->Degree = 7;
     }
   }
 
   Real operator()(Real v) const
   {
-    Real r = this->D[7];
-    for (int k = 6; k >= 0; --k)
+    Real r = this->D[this->Degree];
+    for (int k = this->Degree - 1; k >= 0; --k)
     {
       r = r * v + this->D[k];
     }
     return std::max(r, Real(0));
   }
+
+  int Degree;
 };
 } // namespace detail
 
