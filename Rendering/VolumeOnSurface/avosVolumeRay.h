@@ -17,6 +17,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
@@ -30,6 +31,14 @@
 
 namespace avos
 {
+// How both classes integrate a ray (their IntegrationMethod values).
+enum class RayIntegration
+{
+  Levoy = 0, // Riemann sum, step SampleDistance
+  Adaptive,  // the paper's adaptive Simpson, coupled, to Tolerance
+  Piecewise  // piecewise adaptive (PiecewiseIntegrator.h), to Tolerance
+};
+
 // What every ray of one execution shares: the volume's grid, the transfer
 // function, the integration method.
 struct VolumeRaySetup
@@ -38,7 +47,8 @@ struct VolumeRaySetup
   double WorldToGrid[16];
   double Voxel = 1.0; // world length of one voxel unit (the shortest grid step)
   avos::numerics::TransferFunction<double> TF;
-  bool Adaptive = false;
+  avos::numerics::PiecewiseTransferFunction<double> Pieces; // for RayIntegration::Piecewise
+  RayIntegration Method = RayIntegration::Levoy;
   double SampleDistance = 0.5;
   avos::numerics::AdaptiveSettings<double> Settings;
   vtkDataArray* Scalars = nullptr;
@@ -48,7 +58,7 @@ struct VolumeRaySetup
 
   // Empty, or why the volume or the property cannot be used.
   std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
-    bool adaptive, double sampleDistance, double tolerance)
+    RayIntegration method, double sampleDistance, double tolerance)
   {
     this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
     if (!this->Scalars || this->Scalars->GetNumberOfComponents() != 1)
@@ -64,6 +74,11 @@ struct VolumeRaySetup
     {
       return "the sample distance and the tolerance must be positive";
     }
+    if (method == RayIntegration::Piecewise &&
+      !(tolerance >= avos::numerics::PiecewiseMinimumTolerance<double>() && tolerance <= 1.0))
+    {
+      return "the piecewise method's tolerance must be in [1e-12, 1]";
+    }
     vtkNew<vtkMatrix4x4> gridToWorld, inverse;
     this->Voxel = GridToWorld(volume, nullptr, gridToWorld);
     if (!(this->Voxel > 0.0) || !std::isfinite(this->Voxel))
@@ -76,9 +91,19 @@ struct VolumeRaySetup
     {
       return "unusable transfer function: " + error;
     }
+    if (method == RayIntegration::Piecewise)
+    {
+      const std::string piecesError =
+        this->Pieces.Build(this->TF, avos::numerics::PiecewiseRelativeError(tolerance));
+      if (!piecesError.empty())
+      {
+        return "the piecewise method cannot use this transfer function at tolerance " +
+          std::to_string(tolerance) + ": " + piecesError;
+      }
+    }
     vtkMatrix4x4::Invert(gridToWorld, inverse);
     std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
-    this->Adaptive = adaptive;
+    this->Method = method;
     this->SampleDistance = sampleDistance;
     this->Settings.Tolerance = tolerance;
     this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
@@ -142,10 +167,16 @@ public:
     {
       segments.assign(1, { 0.0, D });
     }
-    if (this->Setup.Adaptive)
+    if (this->Setup.Method == RayIntegration::Adaptive)
     {
       return avos::numerics::IntegrateAdaptive(
         field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings)
+        .RGBA;
+    }
+    if (this->Setup.Method == RayIntegration::Piecewise)
+    {
+      return avos::numerics::IntegratePiecewise(this->Volume, origin, -step, segments.data(),
+        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance)
         .RGBA;
     }
     return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,

@@ -256,7 +256,8 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     in.HaveRays = false;
     avos::VolumeRaySetup setup;
     const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
-      this->IntegrationMethod == ADAPTIVE, this->SampleDistance, this->Tolerance);
+      static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
+      this->Tolerance);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
@@ -381,7 +382,8 @@ void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << "\n" << indent << "RaysPerCone: " << this->RaysPerCone << "\n";
   os << indent << "FlipNormals: " << this->FlipNormals << "\n";
-  os << indent << "IntegrationMethod: " << (this->IntegrationMethod == LEVOY ? "Levoy" : "Adaptive")
+  const char* methods[3] = { "Levoy", "Adaptive", "Piecewise" };
+  os << indent << "IntegrationMethod: " << methods[this->IntegrationMethod]
      << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";

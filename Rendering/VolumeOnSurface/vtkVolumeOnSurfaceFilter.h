@@ -107,17 +107,19 @@ public:
   enum IntegrationMethods
   {
     LEVOY = 0, // Riemann sum with step SampleDistance (the paper's model)
-    ADAPTIVE   // adaptive Simpson, coupled, to Tolerance
+    ADAPTIVE,  // adaptive Simpson, coupled, to Tolerance
+    PIECEWISE  // piecewise adaptive (as vtkAdaptiveVolumeMapper's), to Tolerance on any TF
   };
 
   ///@{
   /**
    * How each ray is integrated. Default LEVOY.
    */
-  vtkSetClampMacro(IntegrationMethod, int, LEVOY, ADAPTIVE);
+  vtkSetClampMacro(IntegrationMethod, int, LEVOY, PIECEWISE);
   vtkGetMacro(IntegrationMethod, int);
   void SetIntegrationMethodToLevoy() { this->SetIntegrationMethod(LEVOY); }
   void SetIntegrationMethodToAdaptive() { this->SetIntegrationMethod(ADAPTIVE); }
+  void SetIntegrationMethodToPiecewise() { this->SetIntegrationMethod(PIECEWISE); }
   ///@}
 
   ///@{

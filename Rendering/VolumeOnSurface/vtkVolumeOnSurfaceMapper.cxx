@@ -43,7 +43,7 @@ struct ViewKey
   std::array<double, 3> Eye{};
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
-  std::array<double, 5> Integration{}; // adaptive, step, tolerance, extinction, skipping
+  std::array<double, 5> Integration{}; // method, step, tolerance, extinction, skipping
 
   bool operator==(const ViewKey& o) const
   {
@@ -277,7 +277,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   key.Surface = surface->GetMTime();
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
-  key.Integration = { double(this->Adaptive), this->SampleDistance, this->Tolerance,
+  key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
     double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping) };
   if (!in.HaveKey || !(key == in.Key))
   {
@@ -292,7 +292,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   {
     avos::VolumeRaySetup setup;
     const std::string error = setup.Prepare(volume, this->VolumeProperty,
-      this->ExtinctionOpacity != 0, this->Adaptive != 0, this->SampleDistance, this->Tolerance);
+      this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
+      this->SampleDistance, this->Tolerance);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
@@ -386,7 +387,8 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
-  os << indent << "Adaptive: " << this->Adaptive << "\n";
+  const char* methods[3] = { "Levoy", "Adaptive", "Piecewise" };
+  os << indent << "IntegrationMethod: " << methods[this->IntegrationMethod] << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";

@@ -61,15 +61,25 @@ public:
   vtkGetObjectMacro(VolumeProperty, vtkVolumeProperty);
   ///@}
 
+  enum IntegrationMethods
+  {
+    LEVOY = 0, // Riemann sum with step SampleDistance
+    ADAPTIVE,  // adaptive Simpson, coupled, to Tolerance
+    PIECEWISE  // piecewise adaptive (as vtkAdaptiveVolumeMapper's), to Tolerance on any TF
+  };
+
   ///@{
   /**
-   * Integration along each ray, as in vtkVolumeOnSurfaceFilter: Riemann
-   * (default) with SampleDistance (voxel units, default 0.5) or adaptive with
-   * Tolerance (default 0.01); the opacity model (VTK's by default).
+   * Integration along each ray, as in vtkVolumeOnSurfaceFilter: LEVOY
+   * (default) with SampleDistance (voxel units, default 0.5), ADAPTIVE or
+   * PIECEWISE with Tolerance (default 0.01); the opacity model (VTK's by
+   * default).
    */
-  vtkSetMacro(Adaptive, vtkTypeBool);
-  vtkGetMacro(Adaptive, vtkTypeBool);
-  vtkBooleanMacro(Adaptive, vtkTypeBool);
+  vtkSetClampMacro(IntegrationMethod, int, LEVOY, PIECEWISE);
+  vtkGetMacro(IntegrationMethod, int);
+  void SetIntegrationMethodToLevoy() { this->SetIntegrationMethod(LEVOY); }
+  void SetIntegrationMethodToAdaptive() { this->SetIntegrationMethod(ADAPTIVE); }
+  void SetIntegrationMethodToPiecewise() { this->SetIntegrationMethod(PIECEWISE); }
   vtkSetMacro(SampleDistance, double);
   vtkGetMacro(SampleDistance, double);
   vtkSetMacro(Tolerance, double);
@@ -148,7 +158,7 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   vtkVolumeProperty* VolumeProperty = nullptr;
-  vtkTypeBool Adaptive = 0;
+  int IntegrationMethod = LEVOY;
   double SampleDistance = 0.5;
   double Tolerance = 0.01;
   vtkTypeBool ExtinctionOpacity = 0;

@@ -70,7 +70,8 @@ int TestVolumeOnSurfaceFilter(int, char*[])
 
   const double L = 1.0 / std::cos(vtkMath::RadiansFromDegrees(20.0)) / voxel;
   const double alpha = 1.0 - std::exp(-tau * L);
-  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE })
+  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE,
+         vtkVolumeOnSurfaceFilter::PIECEWISE })
   {
     vos->SetIntegrationMethod(method);
     vos->Update();

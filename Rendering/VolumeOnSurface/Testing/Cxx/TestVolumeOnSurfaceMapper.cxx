@@ -75,9 +75,10 @@ int TestVolumeOnSurfaceMapper(int, char*[])
 
   const vtkIdType n = 31 * 31;
   const double alpha = 1.0 - std::exp(-tau / voxel);
-  for (int adaptive : { 0, 1 })
+  for (int method : { vtkVolumeOnSurfaceMapper::LEVOY, vtkVolumeOnSurfaceMapper::ADAPTIVE,
+         vtkVolumeOnSurfaceMapper::PIECEWISE })
   {
-    mapper->SetAdaptive(adaptive);
+    mapper->SetIntegrationMethod(method);
     window->Render();
     Expect(mapper->GetNumberOfVisibleVertices() == n && mapper->GetNumberOfRaysCast() == n,
       "every vertex visible, one ray each");
@@ -188,9 +189,11 @@ int TestVolumeOnSurfaceMapper(int, char*[])
       }
       return values;
     };
-    for (int adaptive : { 0, 1 })
+    for (int method : { vtkVolumeOnSurfaceMapper::LEVOY, vtkVolumeOnSurfaceMapper::ADAPTIVE,
+           vtkVolumeOnSurfaceMapper::PIECEWISE })
     {
-      mapper->SetAdaptive(adaptive);
+      const bool adaptive = method != vtkVolumeOnSurfaceMapper::LEVOY;
+      mapper->SetIntegrationMethod(method);
       mapper->EmptySpaceSkippingOn();
       const std::vector<double> skipped = colours();
       mapper->EmptySpaceSkippingOff();
@@ -203,11 +206,11 @@ int TestVolumeOnSurfaceMapper(int, char*[])
       }
       Expect(brightest > 50, "the blob colours some vertices");
       Expect(adaptive ? worst <= 255 * 2 * mapper->GetTolerance() + 1 : worst == 0.0,
-        adaptive ? "adaptive: skipping stays within the tolerance"
+        adaptive ? "adaptive and piecewise: skipping stays within the tolerance"
                  : "Riemann: skipping changes no colour");
     }
     mapper->EmptySpaceSkippingOn();
-    mapper->SetAdaptive(0);
+    mapper->SetIntegrationMethodToLevoy();
     mapper->SetVolumeData(volume);
     mapper->SetVolumeProperty(property);
   }
