@@ -9,7 +9,9 @@
 // cubic: its extrema bracket monotone stretches, a safeguarded Newton step
 // finds each knot inside a stretch), as exact and pre-integrated volume
 // rendering do, and hands each piece with its cubic and its transfer-function
-// piece to the caller (see PiecewiseIntegrator.h).
+// piece to the caller (see PiecewiseIntegrator.h). A cell whose corner range
+// holds no knot is one piece: no root is sought there, and a cell whose
+// range the transfer function makes transparent costs its corners only.
 //
 // PiecewiseTransferFunction gives C linear and tau quadratic in s on each
 // piece (so the optical depth along a piece stays the integral of a
@@ -340,6 +342,7 @@ struct RayPiece
   Real Length;
   Cubic<Real> Q;
   std::size_t TF;
+  bool Monotone; // s is monotone on the piece
 };
 
 namespace detail
@@ -371,6 +374,26 @@ Real Crossing(const Cubic<Real>& s, Real value, Real lo, Real hi)
     u = next;
   }
   return u;
+}
+
+// True when s' keeps its sign on [0, end]: at both ends and at the vertex of
+// the quadratic s' when it lies inside.
+template <typename Real>
+bool Monotone(const Cubic<Real>& s, Real end)
+{
+  const Real d0 = s.Derivative(Real(0)), d1 = s.Derivative(end);
+  Real lo = std::min(d0, d1), hi = std::max(d0, d1);
+  if (s.K[3] != Real(0))
+  {
+    const Real vertex = -s.K[2] / (Real(3) * s.K[3]);
+    if (vertex > Real(0) && vertex < end)
+    {
+      const Real dv = s.Derivative(vertex);
+      lo = std::min(lo, dv);
+      hi = std::max(hi, dv);
+    }
+  }
+  return lo >= Real(0) || hi <= Real(0);
 }
 
 // Roots of a u^2 + b u + c in (0, end), ascending; at most 2.
@@ -480,10 +503,21 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     {
       Real c[8];
       volume.GetCorners(index[0], index[1], index[2], c);
-      const Real lo = *std::min_element(c, c + 8), hi = *std::max_element(c, c + 8);
+      Real lo = c[0], hi = c[0];
+      for (int i = 1; i < 8; ++i)
+      {
+        lo = std::min(lo, c[i]);
+        hi = std::max(hi, c[i]);
+      }
       // The sum is finite only when every corner is (a NaN escapes min/max).
       const bool finite = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
-      if (finite && tf.AnyVisible(lo, hi))
+      // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
+      // inside, the whole cell lies in one transfer-function piece (a corner
+      // value on a knot is met at isolated points only): no crossing to find,
+      // and nothing to do at all when that piece is transparent.
+      const std::size_t first = finite ? tf.Locate(lo) : 0;
+      const bool crossings = finite && first < knots.size() && knots[first] < hi;
+      if (finite && (crossings ? tf.AnyVisible(lo, hi) : tf.IsVisible(first)))
       {
         ++cells;
         // The cubic in u = t - t (cell entry), from the trilinear form
@@ -503,56 +537,71 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
         s.K[2] = dx * dy * (E + H * z) + dx * dz * (F + H * y) + dy * dz * (G + H * x);
         s.K[3] = H * dx * dy * dz;
         const Real length = t1 - t;
-        // Monotone stretches: split at the extrema inside the cell.
-        Real bounds[4];
-        int count = 0;
-        bounds[count++] = Real(0);
-        Real roots[2];
-        const int r = detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
-        for (int i = 0; i < r; ++i)
+        auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
         {
-          bounds[count++] = roots[i];
-        }
-        bounds[count++] = length;
-        for (int b = 0; b + 1 < count; ++b)
+          RayPiece<Real> rp;
+          rp.Begin = t + u;
+          rp.Length = next - u;
+          rp.Q = s.Shifted(u);
+          rp.Q.K[0] -= tf[piece].Start;
+          rp.TF = piece;
+          rp.Monotone = monotone;
+          return visit(rp);
+        };
+        if (!crossings)
         {
-          const Real ua = bounds[b], ub = bounds[b + 1];
-          const Real sa = s(ua), sb = s(ub);
-          const bool rising = sb >= sa;
-          const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
-          // Knots strictly inside (slo, shi), in the order the ray meets them.
-          const std::size_t k0 = tf.Locate(slo);
-          const std::size_t k1 = tf.CountBelow(shi);
-          const std::size_t crossings = k1 > k0 ? k1 - k0 : 0;
-          Real u = ua;
-          for (std::size_t j = 0; j <= crossings; ++j)
+          // One piece for the cell; whether s is monotone on it only matters
+          // to the integrator's cheapest bound, so it is tested, not split.
+          if (!emit(Real(0), length, first, detail::Monotone(s, length)))
           {
-            Real next = ub;
-            if (j < crossings)
+            return false;
+          }
+        }
+        else
+        {
+          // Monotone stretches: split at the extrema inside the cell.
+          Real bounds[4];
+          int count = 0;
+          bounds[count++] = Real(0);
+          Real roots[2];
+          const int r =
+            detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
+          for (int i = 0; i < r; ++i)
+          {
+            bounds[count++] = roots[i];
+          }
+          bounds[count++] = length;
+          for (int b = 0; b + 1 < count; ++b)
+          {
+            const Real ua = bounds[b], ub = bounds[b + 1];
+            const Real sa = s(ua), sb = s(ub);
+            const bool rising = sb >= sa;
+            const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
+            // Knots strictly inside (slo, shi), in the order the ray meets them.
+            const std::size_t k0 = tf.Locate(slo);
+            const std::size_t k1 = tf.CountBelow(shi);
+            const std::size_t inside = k1 > k0 ? k1 - k0 : 0;
+            Real u = ua;
+            for (std::size_t j = 0; j <= inside; ++j)
             {
-              const Real value = knots[rising ? k0 + j : k1 - 1 - j];
-              next = std::min(std::max(detail::Crossing(s, value, ua, ub), u), ub);
-            }
-            if (next > u)
-            {
-              // The transfer-function piece from the scalar in the middle:
-              // robust where a crossing rounds onto a knot.
-              const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
-              if (tf.IsVisible(piece))
+              Real next = ub;
+              if (j < inside)
               {
-                RayPiece<Real> rp;
-                rp.Begin = t + u;
-                rp.Length = next - u;
-                rp.Q = s.Shifted(u);
-                rp.Q.K[0] -= tf[piece].Start;
-                rp.TF = piece;
-                if (!visit(rp))
+                const Real value = knots[rising ? k0 + j : k1 - 1 - j];
+                next = std::min(std::max(detail::Crossing(s, value, ua, ub), u), ub);
+              }
+              if (next > u)
+              {
+                // The transfer-function piece from the scalar in the middle:
+                // robust where a crossing rounds onto a knot.
+                const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
+                if (tf.IsVisible(piece) && !emit(u, next, piece, true))
                 {
                   return false;
                 }
               }
+              u = std::max(u, next);
             }
-            u = std::max(u, next);
           }
         }
       }
