@@ -9,6 +9,8 @@ packages=(
   # OpenImageIO's CMake package names the tools and the Imath Python module too.
   libopenimageio-dev openimageio-tools python3-imath
   libgtest-dev libbenchmark-dev
+  # The ray-casting engine's SIMD kernels (runtime dispatch).
+  libhwy-dev
   # The avos-render test writes a DICOM series.
   python3-pydicom
   xvfb xauth

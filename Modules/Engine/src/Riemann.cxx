@@ -1,0 +1,341 @@
+// The Riemann kernel for every Highway target (foreach_target re-includes
+// this file once per target), the dispatching entry points, and the
+// transfer table (once, under HWY_ONCE).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "src/Riemann.cxx"
+#include "hwy/foreach_target.h" // IWYU pragma: keep
+
+#include "hwy/contrib/math/math-inl.h"
+#include "hwy/highway.h"
+
+#include "avos/engine/Riemann.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+HWY_BEFORE_NAMESPACE();
+namespace avos
+{
+namespace engine
+{
+namespace HWY_NAMESPACE
+{
+namespace hn = hwy::HWY_NAMESPACE;
+
+constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(float);
+
+// alpha_i and C_i of the samples at (px, py, pz), dt: one vector of lanes.
+template <class D>
+HWY_INLINE void Classify(D d, const VolumeF& volume, const TransferTable& tf, const float* px,
+  const float* py, const float* pz, const float* dt, float* alpha, float* r, float* g, float* b)
+{
+  const hn::RebindToSigned<D> di;
+  const int nx = volume.Dimensions[0], ny = volume.Dimensions[1], nz = volume.Dimensions[2];
+  const std::int32_t sy = nx, sz = nx * ny;
+  // Cell and fraction per axis, clamped onto the box as TrilinearVolume does.
+  auto locate = [&](const float* p, int n, decltype(hn::Zero(di))& cell)
+  {
+    const auto x = hn::Min(hn::Max(hn::Load(d, p), hn::Zero(d)), hn::Set(d, float(n - 1)));
+    cell = hn::Min(hn::ConvertTo(di, x), hn::Set(di, n - 2));
+    return hn::Sub(x, hn::ConvertTo(d, cell));
+  };
+  decltype(hn::Zero(di)) ix, iy, iz;
+  const auto fx = locate(px, nx, ix);
+  const auto fy = locate(py, ny, iy);
+  const auto fz = locate(pz, nz, iz);
+  const auto base = hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
+  const float* data = volume.Data;
+  auto at = [&](std::int32_t offset)
+  { return hn::GatherIndex(d, data, hn::Add(base, hn::Set(di, offset))); };
+  const auto v000 = at(0), v100 = at(1), v010 = at(sy), v110 = at(sy + 1);
+  const auto v001 = at(sz), v101 = at(sz + 1), v011 = at(sz + sy), v111 = at(sz + sy + 1);
+  const auto v00 = hn::MulAdd(fx, hn::Sub(v100, v000), v000);
+  const auto v10 = hn::MulAdd(fx, hn::Sub(v110, v010), v010);
+  const auto v01 = hn::MulAdd(fx, hn::Sub(v101, v001), v001);
+  const auto v11 = hn::MulAdd(fx, hn::Sub(v111, v011), v011);
+  const auto v0 = hn::MulAdd(fy, hn::Sub(v10, v00), v00);
+  const auto v1 = hn::MulAdd(fy, hn::Sub(v11, v01), v01);
+  const auto s = hn::MulAdd(fz, hn::Sub(v1, v0), v0);
+
+  // The piece: the number of knots at or below s (std::upper_bound's answer).
+  const std::int32_t m = static_cast<std::int32_t>(tf.Knots.size());
+  const float* knots = tf.Knots.data();
+  const auto one = hn::Set(di, 1);
+  // A table that fits in one vector is searched by comparisons and read by
+  // lane permutations; a larger one through the bucket grid and gathers.
+  const bool inRegisters = m + 1 <= static_cast<std::int32_t>(hn::Lanes(d));
+  auto piece = hn::Zero(di);
+  if (inRegisters)
+  {
+    for (std::int32_t k = 0; k < m; ++k)
+    {
+      piece = hn::Add(piece, hn::IfThenElseZero(hn::RebindMask(di, hn::Le(hn::Set(d, knots[k]), s)), one));
+    }
+  }
+  else
+  {
+    // The bucket's guess, then corrected up and down (exact whatever its
+    // rounding).
+    const auto scaled = hn::Mul(hn::Sub(s, hn::Set(d, knots[0])), hn::Set(d, tf.BucketScale));
+    const auto last = static_cast<std::int32_t>(tf.Buckets.size() - 1);
+    const auto bucket = hn::Min(
+      hn::ConvertTo(di, hn::Min(hn::Max(scaled, hn::Zero(d)), hn::Set(d, float(last)))),
+      hn::Set(di, last));
+    piece = hn::GatherIndex(di, tf.Buckets.data(), bucket);
+    for (;;)
+    {
+      const auto knot = hn::GatherIndex(d, knots, hn::Min(piece, hn::Set(di, m - 1)));
+      const auto up = hn::And(hn::Lt(piece, hn::Set(di, m)), hn::RebindMask(di, hn::Le(knot, s)));
+      if (hn::AllFalse(di, up))
+      {
+        break;
+      }
+      piece = hn::Add(piece, hn::IfThenElseZero(up, one));
+    }
+    for (;;)
+    {
+      const auto knot = hn::GatherIndex(d, knots, hn::Max(hn::Sub(piece, one), hn::Zero(di)));
+      const auto down = hn::And(hn::Gt(piece, hn::Zero(di)), hn::RebindMask(di, hn::Gt(knot, s)));
+      if (hn::AllFalse(di, down))
+      {
+        break;
+      }
+      piece = hn::Sub(piece, hn::IfThenElseZero(down, one));
+    }
+  }
+  const auto indices = hn::IndicesFromVec(d, inRegisters ? piece : hn::Zero(di));
+  auto field = [&](const std::vector<float>& v)
+  {
+    // The tables are padded to a whole vector (TransferTable::Build).
+    return inRegisters ? hn::TableLookupLanes(hn::LoadU(d, v.data()), indices)
+                       : hn::GatherIndex(d, v.data(), piece);
+  };
+  const auto dd = hn::Min(hn::Max(hn::Sub(s, field(tf.Start)), hn::Zero(d)), field(tf.Length));
+  const auto opacity = hn::MulAdd(field(tf.OpacitySlope), dd, field(tf.Opacity));
+  auto tau = opacity;
+  if (tf.Alpha)
+  {
+    // tau = -ln(1 - alpha) / d, opaque from alpha 1 on (log's argument kept
+    // positive in the lanes the select discards).
+    const auto opaque = hn::Set(d, tf.OpaqueExtinction);
+    const auto rest = hn::Max(hn::Sub(hn::Set(d, 1.0f), opacity), hn::Set(d, 1e-30f));
+    const auto depth = hn::Min(hn::Neg(hn::Log(d, rest)), opaque);
+    tau = hn::Mul(hn::IfThenElse(hn::Ge(opacity, hn::Set(d, 1.0f)), opaque, depth),
+      hn::Set(d, tf.InverseUnit));
+  }
+  const auto a = hn::Neg(hn::Expm1(d, hn::Neg(hn::Mul(tau, hn::Load(d, dt)))));
+  hn::Store(a, d, alpha);
+  float* out[3] = { r, g, b };
+  for (int c = 0; c < 3; ++c)
+  {
+    hn::Store(hn::MulAdd(field(tf.ColourSlope[c]), dd, field(tf.Colour[c])), d, out[c]);
+  }
+}
+
+void CastRiemannImpl(const VolumeF& volume, const TransferTable& tf, const double* origin,
+  const double* direction, double D, double h, const numerics::Interval<double>* segments,
+  std::size_t count, double terminationBound, RayOutput& out)
+{
+  const hn::ScalableTag<float> d;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
+  HWY_ALIGN float alpha[MaximumLanes], r[MaximumLanes], g[MaximumLanes], b[MaximumLanes];
+  out = RayOutput();
+  if (!(D > 0.0) || !(h > 0.0))
+  {
+    return;
+  }
+  const double bound = terminationBound / std::max(1.0, tf.MaximumColor);
+  double color[3] = { 0.0, 0.0, 0.0 };
+  double T = 1.0;
+  const long n = static_cast<long>(std::ceil(D / h));
+  long next = 1; // the first sample index not yet taken
+  bool done = false;
+  for (std::size_t j = 0; j < count && next <= n && !done; ++j)
+  {
+    next = std::max({ next, static_cast<long>(std::ceil(segments[j].Begin / h)), 1L });
+    while (next <= n && !done)
+    {
+      // The lanes' samples: consecutive indices, as long as they lie in the
+      // segment (the first outside ends it, as in IntegrateRiemann).
+      int used = 0;
+      for (; used < lanes; ++used)
+      {
+        const long i = next + used;
+        if (i > n)
+        {
+          break;
+        }
+        const double t1 = i == n ? D : std::min(double(i) * h, D);
+        if (t1 > segments[j].End)
+        {
+          break;
+        }
+        dt[used] = static_cast<float>(t1 - double(i - 1) * h);
+        px[used] = static_cast<float>(origin[0] + t1 * direction[0]);
+        py[used] = static_cast<float>(origin[1] + t1 * direction[1]);
+        pz[used] = static_cast<float>(origin[2] + t1 * direction[2]);
+      }
+      if (used == 0)
+      {
+        break;
+      }
+      for (int k = used; k < lanes; ++k)
+      {
+        px[k] = px[0];
+        py[k] = py[0];
+        pz[k] = pz[0];
+        dt[k] = 0.0f;
+      }
+      Classify(d, volume, tf, px, py, pz, dt, alpha, r, g, b);
+      for (int k = 0; k < used; ++k)
+      {
+        const double a = alpha[k];
+        color[0] += T * a * r[k];
+        color[1] += T * a * g[k];
+        color[2] += T * a * b[k];
+        T *= 1.0 - a;
+        ++out.Samples;
+        if (T <= bound)
+        {
+          done = true;
+          break;
+        }
+      }
+      next += used;
+      if (used < lanes)
+      {
+        break; // the segment (or the ray) ends inside this vector
+      }
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    out.RGBA[c] = color[c];
+  }
+  out.RGBA[3] = 1.0 - T;
+}
+
+const char* TargetNameImpl()
+{
+  return hwy::TargetName(HWY_TARGET);
+}
+
+} // namespace HWY_NAMESPACE
+} // namespace engine
+} // namespace avos
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace avos
+{
+namespace engine
+{
+HWY_EXPORT(CastRiemannImpl);
+HWY_EXPORT(TargetNameImpl);
+
+void CastRiemann(const VolumeF& volume, const TransferTable& tf, const double origin[3],
+  const double direction[3], double D, double h, const numerics::Interval<double>* segments,
+  std::size_t count, double terminationBound, RayOutput& out)
+{
+  HWY_DYNAMIC_DISPATCH(CastRiemannImpl)
+  (volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+}
+
+const char* CastRiemannTarget()
+{
+  return HWY_DYNAMIC_DISPATCH(TargetNameImpl)();
+}
+
+std::string Validate(const VolumeF& volume)
+{
+  double points = 1.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (volume.Dimensions[a] < 2)
+    {
+      return "the volume needs at least 2 points along each axis";
+    }
+    points *= volume.Dimensions[a];
+  }
+  if (points > double(std::numeric_limits<std::int32_t>::max()))
+  {
+    return "the vectorised kernels take at most 2^31 - 1 points (32-bit gather indices)";
+  }
+  return volume.Data ? std::string() : "the volume has no data";
+}
+
+std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
+{
+  const std::string error = tf.Validate();
+  if (!error.empty())
+  {
+    return error;
+  }
+  const auto& pieces = tf.GetPieces();
+  if (pieces.empty())
+  {
+    return "the transfer function was not finalised";
+  }
+  this->Knots.clear();
+  this->Start.clear();
+  this->Length.clear();
+  this->Opacity.clear();
+  this->OpacitySlope.clear();
+  for (int c = 0; c < 3; ++c)
+  {
+    this->Colour[c].clear();
+    this->ColourSlope[c].clear();
+  }
+  auto add = [this](double start, double length, double opacity, double opacitySlope,
+               const glm::dvec3& colour, const glm::dvec3& colourSlope)
+  {
+    this->Start.push_back(float(start));
+    this->Length.push_back(float(length));
+    this->Opacity.push_back(float(opacity));
+    this->OpacitySlope.push_back(float(opacitySlope));
+    for (int c = 0; c < 3; ++c)
+    {
+      this->Colour[c].push_back(float(colour[c]));
+      this->ColourSlope[c].push_back(float(colourSlope[c]));
+    }
+  };
+  // Piece 0: below the first knot, the first values held.
+  add(pieces.front().Start, 0.0, tf.GetOpacityBelow(), 0.0, tf.GetColorBelow(), glm::dvec3(0.0));
+  for (const auto& p : pieces)
+  {
+    this->Knots.push_back(float(p.Start));
+    add(p.Start, p.Length, p.Opacity, p.OpacitySlope, p.Colour, p.ColourSlope);
+  }
+  // Padded to the widest vector, so that a small table loads whole.
+  const std::size_t padded = std::max<std::size_t>(this->Start.size(), 16);
+  for (std::vector<float>* v : { &this->Start, &this->Length, &this->Opacity, &this->OpacitySlope,
+         &this->Colour[0], &this->Colour[1], &this->Colour[2], &this->ColourSlope[0],
+         &this->ColourSlope[1], &this->ColourSlope[2] })
+  {
+    v->resize(padded, 0.0f);
+  }
+  // About four buckets per knot: the number of knots at or below each
+  // bucket's lower edge (in float, as the kernels compare).
+  const std::size_t m = this->Knots.size();
+  const float span = this->Knots.back() - this->Knots.front();
+  const std::size_t buckets = std::min<std::size_t>(4 * m, std::size_t(1) << 16);
+  this->BucketScale = span > 0.0f ? float(buckets) / span : 0.0f;
+  this->Buckets.clear();
+  for (std::size_t k = 0; k < buckets; ++k)
+  {
+    const float edge = this->Knots.front() + span * float(k) / float(buckets);
+    this->Buckets.push_back(static_cast<std::int32_t>(
+      std::upper_bound(this->Knots.begin(), this->Knots.end(), edge) - this->Knots.begin()));
+  }
+  this->Alpha = tf.GetOpacityModel() == numerics::OpacityModel::Alpha;
+  this->InverseUnit = float(1.0 / tf.GetUnitDistance());
+  this->OpaqueExtinction = float(numerics::TransferFunction<double>::OpaqueExtinction);
+  this->MaximumColor = tf.GetMaximumColor();
+  return std::string();
+}
+
+} // namespace engine
+} // namespace avos
+#endif
