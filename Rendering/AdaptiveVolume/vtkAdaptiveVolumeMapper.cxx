@@ -126,7 +126,7 @@ struct Method
   const an::PiecewiseTransferFunction<double>* Pieces = nullptr;
   // The vectorised engine's copy of the volume and transfer function, for
   // RIEMANN (null: the scalar sum).
-  const avos::engine::VolumeF* EngineVolume = nullptr;
+  const avos::engine::Volume* EngineVolume = nullptr;
   const avos::engine::TransferTable* EngineTable = nullptr;
 };
 
@@ -291,11 +291,12 @@ public:
   an::PiecewiseTransferFunction<double> Pieces;
   double PiecesRelativeError = 0.0;
   vtkTimeStamp PiecesTime;
-  // The vectorised engine's inputs (RIEMANN): the scalars in float, rebuilt
+  // The vectorised engine's inputs (RIEMANN): the scalars as the kernels
+  // read them (8- and 16-bit as they are, padded; others in float), rebuilt
   // with the empty-space ranges (when the scalars change), and the transfer
   // table, rebuilt with the classification.
-  std::vector<float> FloatScalars;
-  avos::engine::VolumeF EngineVolume;
+  std::vector<unsigned char> EngineScalars;
+  avos::engine::Volume EngineVolume;
   vtkMTimeType EngineVolumeTime = 0;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
@@ -572,24 +573,40 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   bool engine = this->IntegrationMethod == RIEMANN;
   if (engine && internals.EngineVolumeTime != internals.Ranges.GetTime())
   {
-    internals.FloatScalars.resize(static_cast<std::size_t>(scalars->GetNumberOfTuples()));
-    float* floats = internals.FloatScalars.data();
+    using Type = avos::engine::Volume::Type;
+    const int type = scalars->GetDataType();
+    const Type kept = type == VTK_UNSIGNED_CHAR
+      ? Type::UInt8
+      : (type == VTK_UNSIGNED_SHORT ? Type::UInt16 : Type::Float32);
+    const std::size_t bytes = kept == Type::UInt8 ? 1 : (kept == Type::UInt16 ? 2 : 4);
+    const vtkIdType count = scalars->GetNumberOfTuples();
+    internals.EngineScalars.assign(
+      bytes * static_cast<std::size_t>(count) + avos::engine::Volume::Padding, 0);
+    unsigned char* target = internals.EngineScalars.data();
     auto convert = [&](auto* data)
     {
-      vtkSMPTools::For(0, scalars->GetNumberOfTuples(),
+      vtkSMPTools::For(0, count,
         [&](vtkIdType begin, vtkIdType end)
         {
+          if (kept != Type::Float32)
+          {
+            std::copy(reinterpret_cast<const unsigned char*>(data + begin),
+              reinterpret_cast<const unsigned char*>(data + end), target + bytes * begin);
+            return;
+          }
+          float* floats = reinterpret_cast<float*>(target);
           for (vtkIdType i = begin; i < end; ++i)
           {
             floats[i] = static_cast<float>(data[i]);
           }
         });
     };
-    switch (scalars->GetDataType())
+    switch (type)
     {
       vtkTemplateMacro(convert(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
     }
-    internals.EngineVolume.Data = floats;
+    internals.EngineVolume.Data = target;
+    internals.EngineVolume.Scalars = kept;
     std::copy(dims, dims + 3, internals.EngineVolume.Dimensions);
     internals.EngineVolumeTime = internals.Ranges.GetTime();
   }

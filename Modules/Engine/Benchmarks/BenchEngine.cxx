@@ -106,7 +106,7 @@ void Vectorised(benchmark::State& state)
   const Fixture& f = Get(state.range(1) != 0);
   hwy::SetSupportedTargetsForTest(state.range(0));
   state.SetLabel(ae::CastRiemannTarget());
-  ae::VolumeF volume;
+  ae::Volume volume;
   volume.Data = f.DataF.data();
   std::copy(f.Dimensions, f.Dimensions + 3, volume.Dimensions);
   long rays = 0, samples = 0;

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
@@ -25,26 +26,55 @@ namespace ae = avos::engine;
 
 namespace
 {
+// A smooth volume stored as the kernels read it (float, or 8- or 16-bit
+// with the padding they need), its values in double for the scalar sum, and
+// a random transfer function over its range.
 struct Scene
 {
   adversarial::Case Case;
-  std::vector<float> Data;
+  ae::Volume::Type Type = ae::Volume::Type::Float32;
+  std::vector<float> Floats;
+  std::vector<std::uint8_t> Bytes;
+  std::vector<std::uint16_t> Words;
+
+  ae::Volume View() const
+  {
+    ae::Volume volume;
+    volume.Scalars = this->Type;
+    volume.Data = this->Type == ae::Volume::Type::UInt8
+      ? static_cast<const void*>(this->Bytes.data())
+      : (this->Type == ae::Volume::Type::UInt16 ? static_cast<const void*>(this->Words.data())
+                                                : static_cast<const void*>(this->Floats.data()));
+    std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, volume.Dimensions);
+    return volume;
+  }
 };
 
-Scene MakeScene(unsigned seed, bool alpha)
+Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::Type::Float32)
 {
   Scene scene;
+  scene.Type = type;
   scene.Case = adversarial::MakeVolume("smooth", adversarial::Smooth, seed);
+  // 16-bit data spans [0, 65535]: the high byte matters.
+  const double top = type == ae::Volume::Type::UInt16 ? 65535.0 : 255.0;
+  for (double& v : scene.Case.Data)
+  {
+    v = type == ae::Volume::Type::Float32 ? v : std::round(v * top / 255.0);
+  }
   // 3, 12 or 64 knots: tables that fit one vector of every target, of
   // AVX-512 only, and of none (lane permutations and gathers both tested).
   const int knots[3] = { 3, 12, 64 };
-  scene.Case.TF = adversarial::Random(seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0);
+  scene.Case.TF = adversarial::Random(seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0, top);
   if (alpha)
   {
     scene.Case.TF.SetOpacityModel(an::OpacityModel::Alpha, 0.7);
     scene.Case.TF.Finalize();
   }
-  scene.Data.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+  scene.Floats.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+  scene.Bytes.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+  scene.Words.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+  scene.Bytes.resize(scene.Bytes.size() + ae::Volume::Padding, 0);
+  scene.Words.resize(scene.Words.size() + ae::Volume::Padding, 0);
   return scene;
 }
 
@@ -60,9 +90,7 @@ struct Worst
 Worst Compare(const Scene& scene, unsigned count, double h, double terminationBound, bool split)
 {
   const adversarial::Case& c = scene.Case;
-  ae::VolumeF volume;
-  volume.Data = scene.Data.data();
-  std::copy(c.Dimensions, c.Dimensions + 3, volume.Dimensions);
+  const ae::Volume volume = scene.View();
   EXPECT_EQ(ae::Validate(volume), "");
   ae::TransferTable table;
   EXPECT_EQ(table.Build(c.TF), "");
@@ -137,6 +165,23 @@ TEST_P(RiemannTargets, EqualsTheDoubleSumWithoutTermination)
   }
 }
 
+// 8- and 16-bit volumes read as they are (pairs of neighbours from one
+// 32-bit gather), against the double sum of the same values.
+TEST_P(RiemannTargets, IntegerScalars)
+{
+  for (ae::Volume::Type type : { ae::Volume::Type::UInt8, ae::Volume::Type::UInt16 })
+  {
+    for (unsigned seed : { 1u, 3u })
+    {
+      const Scene scene = MakeScene(seed, seed == 3, type);
+      const Worst w = Compare(scene, 300, 0.5, 0.0, true);
+      EXPECT_LE(w.Error, 1e-4) << "type " << int(type) << " seed " << seed;
+      EXPECT_EQ(w.SampleMismatches, 0);
+      EXPECT_GT(w.Opacity, 0.5) << "the rays see the volume";
+    }
+  }
+}
+
 TEST_P(RiemannTargets, EqualsTheDoubleSumWithTermination)
 {
   const double bound = 0.002; // the mapper's at its default tolerance
@@ -157,7 +202,7 @@ INSTANTIATE_TEST_SUITE_P(Engine, RiemannTargets,
 // The kernels refuse what their 32-bit indices cannot address.
 TEST(Riemann, Validate)
 {
-  ae::VolumeF volume;
+  ae::Volume volume;
   EXPECT_NE(ae::Validate(volume), "");
   std::vector<float> data(8, 0.0f);
   volume.Data = data.data();

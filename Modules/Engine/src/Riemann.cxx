@@ -25,9 +25,37 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(float);
 
+// The scalars at base + offset and base + offset + 1 (a corner and its x
+// neighbour) for every lane.
+template <Volume::Type Scalars, class D, class VI>
+HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, hn::Vec<D>& first,
+  hn::Vec<D>& second)
+{
+  const hn::RebindToSigned<D> di;
+  const auto index = hn::Add(base, hn::Set(di, offset));
+  if (Scalars == Volume::Type::Float32)
+  {
+    const float* f = static_cast<const float*>(data);
+    first = hn::GatherIndex(d, f, index);
+    second = hn::GatherIndex(d, f + 1, index);
+  }
+  else
+  {
+    // One 32-bit word from the corner's byte on holds both neighbours
+    // (little endian); the volume is padded for the last one.
+    const bool bytes = Scalars == Volume::Type::UInt8;
+    const auto words = hn::GatherOffset(di, static_cast<const std::int32_t*>(data),
+      bytes ? index : hn::ShiftLeft<1>(index));
+    const auto mask = hn::Set(di, bytes ? 0xFF : 0xFFFF);
+    first = hn::ConvertTo(d, hn::And(words, mask));
+    second = hn::ConvertTo(d,
+      hn::And(bytes ? hn::ShiftRight<8>(words) : hn::ShiftRight<16>(words), mask));
+  }
+}
+
 // alpha_i and C_i of the samples at (px, py, pz), dt: one vector of lanes.
-template <class D>
-HWY_INLINE void Classify(D d, const VolumeF& volume, const TransferTable& tf, const float* px,
+template <Volume::Type Scalars, class D>
+HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, const float* px,
   const float* py, const float* pz, const float* dt, float* alpha, float* r, float* g, float* b)
 {
   const hn::RebindToSigned<D> di;
@@ -45,11 +73,11 @@ HWY_INLINE void Classify(D d, const VolumeF& volume, const TransferTable& tf, co
   const auto fy = locate(py, ny, iy);
   const auto fz = locate(pz, nz, iz);
   const auto base = hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
-  const float* data = volume.Data;
-  auto at = [&](std::int32_t offset)
-  { return hn::GatherIndex(d, data, hn::Add(base, hn::Set(di, offset))); };
-  const auto v000 = at(0), v100 = at(1), v010 = at(sy), v110 = at(sy + 1);
-  const auto v001 = at(sz), v101 = at(sz + 1), v011 = at(sz + sy), v111 = at(sz + sy + 1);
+  hn::Vec<D> v000, v100, v010, v110, v001, v101, v011, v111;
+  Pair<Scalars>(d, volume.Data, base, 0, v000, v100);
+  Pair<Scalars>(d, volume.Data, base, sy, v010, v110);
+  Pair<Scalars>(d, volume.Data, base, sz, v001, v101);
+  Pair<Scalars>(d, volume.Data, base, sz + sy, v011, v111);
   const auto v00 = hn::MulAdd(fx, hn::Sub(v100, v000), v000);
   const auto v10 = hn::MulAdd(fx, hn::Sub(v110, v010), v010);
   const auto v01 = hn::MulAdd(fx, hn::Sub(v101, v001), v001);
@@ -133,7 +161,8 @@ HWY_INLINE void Classify(D d, const VolumeF& volume, const TransferTable& tf, co
   }
 }
 
-void CastRiemannImpl(const VolumeF& volume, const TransferTable& tf, const double* origin,
+template <Volume::Type Scalars>
+void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
   const double* direction, double D, double h, const numerics::Interval<double>* segments,
   std::size_t count, double terminationBound, RayOutput& out)
 {
@@ -188,7 +217,7 @@ void CastRiemannImpl(const VolumeF& volume, const TransferTable& tf, const doubl
         pz[k] = pz[0];
         dt[k] = 0.0f;
       }
-      Classify(d, volume, tf, px, py, pz, dt, alpha, r, g, b);
+      Classify<Scalars>(d, volume, tf, px, py, pz, dt, alpha, r, g, b);
       for (int k = 0; k < used; ++k)
       {
         const double a = alpha[k];
@@ -217,6 +246,24 @@ void CastRiemannImpl(const VolumeF& volume, const TransferTable& tf, const doubl
   out.RGBA[3] = 1.0 - T;
 }
 
+void CastRiemannImpl(const Volume& volume, const TransferTable& tf, const double* origin,
+  const double* direction, double D, double h, const numerics::Interval<double>* segments,
+  std::size_t count, double terminationBound, RayOutput& out)
+{
+  switch (volume.Scalars)
+  {
+    case Volume::Type::UInt8:
+      return Cast<Volume::Type::UInt8>(
+        volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+    case Volume::Type::UInt16:
+      return Cast<Volume::Type::UInt16>(
+        volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+    default:
+      return Cast<Volume::Type::Float32>(
+        volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+  }
+}
+
 const char* TargetNameImpl()
 {
   return hwy::TargetName(HWY_TARGET);
@@ -235,7 +282,7 @@ namespace engine
 HWY_EXPORT(CastRiemannImpl);
 HWY_EXPORT(TargetNameImpl);
 
-void CastRiemann(const VolumeF& volume, const TransferTable& tf, const double origin[3],
+void CastRiemann(const Volume& volume, const TransferTable& tf, const double origin[3],
   const double direction[3], double D, double h, const numerics::Interval<double>* segments,
   std::size_t count, double terminationBound, RayOutput& out)
 {
@@ -248,7 +295,7 @@ const char* CastRiemannTarget()
   return HWY_DYNAMIC_DISPATCH(TargetNameImpl)();
 }
 
-std::string Validate(const VolumeF& volume)
+std::string Validate(const Volume& volume)
 {
   double points = 1.0;
   for (int a = 0; a < 3; ++a)

@@ -143,16 +143,17 @@ inline an::TransferFunction<double> Steps()
   return tf;
 }
 
-// Up to `knots` random knots over [0, 255] (some repeated: jumps), extinction
+// Up to `knots` random knots over [0, top] (some repeated: jumps), extinction
 // up to `peak`, random colours.
-inline an::TransferFunction<double> Random(unsigned seed, int knots, double peak)
+inline an::TransferFunction<double> Random(
+  unsigned seed, int knots, double peak, double top = 255.0)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<double> values(static_cast<std::size_t>(knots));
   for (double& v : values)
   {
-    v = 255.0 * u(rng);
+    v = top * u(rng);
   }
   std::sort(values.begin(), values.end());
   an::TransferFunction<double> tf;

@@ -12,7 +12,9 @@
 //
 // Error bound against the double sum, per channel, without early
 // termination: 1e-4 (positions rounded to float move a sample by at most
-// 3e-5 voxel in a 512^3 volume; interpolation, transfer function and
+// 3e-5 voxel in a 512^3 volume; float scalars round 32-bit integers and
+// doubles to 24 bits, 8- and 16-bit ones are exact; interpolation, transfer
+// function and
 // exponentials in float add relative errors of a few 1e-7 per sample, and
 // the sum of the per-sample opacities telescopes, so they do not accumulate
 // past the largest one). With early termination a ray whose transmittance
@@ -35,11 +37,23 @@ namespace avos
 namespace engine
 {
 
-// A scalar volume in float, x fastest, at most 2^31 - 1 points (32-bit
-// gather indices).
-struct VolumeF
+// A scalar volume, x fastest, at most 2^31 - 1 points (32-bit gather
+// indices). 8- and 16-bit scalars are read as they are (one 32-bit gather
+// fetches a corner and its x neighbour: half the gathers of float, and a
+// quarter or half the memory); they need Padding readable bytes after the
+// last point. Any other type is converted to float by the caller.
+struct Volume
 {
-  const float* Data = nullptr;
+  enum class Type
+  {
+    Float32,
+    UInt8,
+    UInt16
+  };
+  static constexpr std::size_t Padding = 4;
+
+  const void* Data = nullptr;
+  Type Scalars = Type::Float32;
   int Dimensions[3] = { 0, 0, 0 };
 };
 
@@ -71,12 +85,12 @@ struct RayOutput
 };
 
 // Empty when the volume can be cast by the kernels, else why.
-std::string Validate(const VolumeF& volume);
+std::string Validate(const Volume& volume);
 
 // The Riemann sum with step h along origin + t direction (grid coordinates,
 // t in the caller's units), over the sorted, disjoint segments of [0, D]
 // (tau = 0 elsewhere). `terminationBound` 0: no early termination.
-void CastRiemann(const VolumeF& volume, const TransferTable& tf, const double origin[3],
+void CastRiemann(const Volume& volume, const TransferTable& tf, const double origin[3],
   const double direction[3], double D, double h, const numerics::Interval<double>* segments,
   std::size_t count, double terminationBound, RayOutput& out);
 
