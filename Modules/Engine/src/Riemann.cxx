@@ -55,16 +55,16 @@ HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, hn::Ve
 
 // alpha_i and C_i of the samples at (px, py, pz), dt: one vector of lanes.
 template <Volume::Type Scalars, class D>
-HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, const float* px,
-  const float* py, const float* pz, const float* dt, float* alpha, float* r, float* g, float* b)
+HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn::Vec<D> px,
+  hn::Vec<D> py, hn::Vec<D> pz, hn::Vec<D> dt, float* alpha, float* r, float* g, float* b)
 {
   const hn::RebindToSigned<D> di;
   const int nx = volume.Dimensions[0], ny = volume.Dimensions[1], nz = volume.Dimensions[2];
   const std::int32_t sy = nx, sz = nx * ny;
   // Cell and fraction per axis, clamped onto the box as TrilinearVolume does.
-  auto locate = [&](const float* p, int n, decltype(hn::Zero(di))& cell)
+  auto locate = [&](hn::Vec<D> p, int n, decltype(hn::Zero(di))& cell)
   {
-    const auto x = hn::Min(hn::Max(hn::Load(d, p), hn::Zero(d)), hn::Set(d, float(n - 1)));
+    const auto x = hn::Min(hn::Max(p, hn::Zero(d)), hn::Set(d, float(n - 1)));
     cell = hn::Min(hn::ConvertTo(di, x), hn::Set(di, n - 2));
     return hn::Sub(x, hn::ConvertTo(d, cell));
   };
@@ -152,7 +152,7 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, con
     tau = hn::Mul(hn::IfThenElse(hn::Ge(opacity, hn::Set(d, 1.0f)), opaque, depth),
       hn::Set(d, tf.InverseUnit));
   }
-  const auto a = hn::Neg(hn::Expm1(d, hn::Neg(hn::Mul(tau, hn::Load(d, dt)))));
+  const auto a = hn::Neg(hn::Expm1(d, hn::Neg(hn::Mul(tau, dt))));
   hn::Store(a, d, alpha);
   float* out[3] = { r, g, b };
   for (int c = 0; c < 3; ++c)
@@ -168,8 +168,9 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
 {
   const hn::ScalableTag<float> d;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
   HWY_ALIGN float alpha[MaximumLanes], r[MaximumLanes], g[MaximumLanes], b[MaximumLanes];
+  const auto iota = hn::Iota(d, 0.0f);
+  const auto step = hn::Mul(iota, hn::Set(d, static_cast<float>(h)));
   out = RayOutput();
   if (!(D > 0.0) || !(h > 0.0))
   {
@@ -187,37 +188,38 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
     while (next <= n && !done)
     {
       // The lanes' samples: consecutive indices, as long as they lie in the
-      // segment (the first outside ends it, as in IntegrateRiemann).
+      // segment (the first outside ends it: the same test, in double, as
+      // IntegrateRiemann's).
       int used = 0;
       for (; used < lanes; ++used)
       {
         const long i = next + used;
-        if (i > n)
+        if (i > n || (i == n ? D : std::min(double(i) * h, D)) > segments[j].End)
         {
           break;
         }
-        const double t1 = i == n ? D : std::min(double(i) * h, D);
-        if (t1 > segments[j].End)
-        {
-          break;
-        }
-        dt[used] = static_cast<float>(t1 - double(i - 1) * h);
-        px[used] = static_cast<float>(origin[0] + t1 * direction[0]);
-        py[used] = static_cast<float>(origin[1] + t1 * direction[1]);
-        pz[used] = static_cast<float>(origin[2] + t1 * direction[2]);
       }
       if (used == 0)
       {
         break;
       }
-      for (int k = used; k < lanes; ++k)
+      // Positions from the first sample's, in double, plus k h in float (a
+      // few ulp of a vector's span); the ray's last sample sits at D.
+      const double first = next == n ? D : std::min(double(next) * h, D);
+      auto offset = step;
+      auto dt = hn::Set(d, static_cast<float>(h));
+      if (next + used - 1 == n)
       {
-        px[k] = px[0];
-        py[k] = py[0];
-        pz[k] = pz[0];
-        dt[k] = 0.0f;
+        const auto last = hn::Eq(iota, hn::Set(d, static_cast<float>(used - 1)));
+        offset = hn::IfThenElse(last, hn::Set(d, static_cast<float>(D - first)), offset);
+        dt = hn::IfThenElse(last, hn::Set(d, static_cast<float>(D - double(n - 1) * h)), dt);
       }
-      Classify<Scalars>(d, volume, tf, px, py, pz, dt, alpha, r, g, b);
+      auto position = [&](int axis)
+      {
+        return hn::MulAdd(offset, hn::Set(d, static_cast<float>(direction[axis])),
+          hn::Set(d, static_cast<float>(origin[axis] + first * direction[axis])));
+      };
+      Classify<Scalars>(d, volume, tf, position(0), position(1), position(2), dt, alpha, r, g, b);
       for (int k = 0; k < used; ++k)
       {
         const double a = alpha[k];
