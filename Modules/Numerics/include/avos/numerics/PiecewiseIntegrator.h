@@ -167,11 +167,27 @@ void ShiftPolynomial(Real* c, int degree, Real v0)
 // terms whenever A <= 1, since the tail is below e / 41!); a sub-interval
 // where A > 1 is halved first, and then grows back by doubling. Accepted and
 // halved sub-intervals are counted as steps in `stats`.
+// 1 / k for k = 1 .. 47: the series' divisions become products.
+template <typename Real>
+struct Reciprocals
+{
+  Real R[48];
+  constexpr Reciprocals()
+    : R()
+  {
+    for (int k = 1; k < 48; ++k)
+    {
+      this->R[k] = Real(1) / Real(k);
+    }
+  }
+};
+
 template <typename Real, typename Allowed>
-Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
+Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
   const Allowed& allowed, RayStatistics<Real>& stats)
 {
   constexpr int MaximumTerms = 40;
+  static constexpr Reciprocals<Real> inverse{};
   Real J = Real(0);
   Real v = Real(0), h = l, Ev = Real(1);
   while (v < l)
@@ -200,7 +216,7 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       A = magnitude(h);
     }
     const Real end = l - v <= h ? l : v + h;
-    const Real Eh = std::exp(-depth(end));
+    const Real Eh = end == l ? El : std::exp(-depth(end));
     if (!(A <= Real(1)))
     {
       // Only for extreme data (a depth of 1 within l 2^-40): the proven
@@ -214,6 +230,13 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     const Real gmax = std::abs(g[0]) + h * (std::abs(g[1]) + h * std::abs(g[2]));
     const Real limit = allowed(Ev, Eh, h);
     const Real whole = std::exp(A); // the dominating series' sum at h
+    // j theta_j and its magnitude, the recursion's weights.
+    Real weight[8], magnitudeWeight[8];
+    for (int j = 1; j <= depth.Degree; ++j)
+    {
+      weight[j] = Real(j) * theta[j];
+      magnitudeWeight[j] = std::abs(weight[j]);
+    }
     // c_k, C_k h^k, and the integral of g(w) w^k over [0, h] for each term.
     Real c[MaximumTerms + 1], C[MaximumTerms + 1];
     c[0] = Real(1);
@@ -223,7 +246,7 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     {
       // int_0^h g(w) w^k dw for the term c_k w^k.
       sum += c[k] * hk * h *
-        (g[0] / Real(k + 1) + h * (g[1] / Real(k + 2) + h * g[2] / Real(k + 3)));
+        (g[0] * inverse.R[k + 1] + h * (g[1] * inverse.R[k + 2] + h * g[2] * inverse.R[k + 3]));
       const Real tail = std::max(whole - partial, Real(0));
       if (Ev * h * gmax * tail <= limit || k == MaximumTerms)
       {
@@ -232,11 +255,11 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       Real next = Real(0), nextMajorant = Real(0);
       for (int j = 1; j <= std::min(depth.Degree, k + 1); ++j)
       {
-        next -= Real(j) * theta[j] * c[k + 1 - j];
-        nextMajorant += Real(j) * std::abs(theta[j]) * C[k + 1 - j];
+        next -= weight[j] * c[k + 1 - j];
+        nextMajorant += magnitudeWeight[j] * C[k + 1 - j];
       }
-      c[k + 1] = next / Real(k + 1);
-      C[k + 1] = nextMajorant / Real(k + 1);
+      c[k + 1] = next * inverse.R[k + 1];
+      C[k + 1] = nextMajorant * inverse.R[k + 1];
       hk *= h;
       partial += C[k + 1] * hk;
     }
@@ -323,7 +346,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       }
       else
       {
-        J = detail::SeriesIntegral(depth, q, l, allowed, stats);
+        J = detail::SeriesIntegral(depth, q, l, EL, allowed, stats);
       }
       color += p.ColourSlope * (Ta * J);
     }
