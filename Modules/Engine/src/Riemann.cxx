@@ -169,8 +169,10 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
   const hn::ScalableTag<float> d;
   const int lanes = static_cast<int>(hn::Lanes(d));
   HWY_ALIGN float alpha[MaximumLanes], r[MaximumLanes], g[MaximumLanes], b[MaximumLanes];
-  const auto iota = hn::Iota(d, 0.0f);
-  const auto step = hn::Mul(iota, hn::Set(d, static_cast<float>(h)));
+  HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> dfHalf;
+  const int doubleLanes = static_cast<int>(hn::Lanes(dd));
   out = RayOutput();
   if (!(D > 0.0) || !(h > 0.0))
   {
@@ -203,23 +205,25 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
       {
         break;
       }
-      // Positions from the first sample's, in double, plus k h in float (a
-      // few ulp of a vector's span); the ray's last sample sits at D.
-      const double first = next == n ? D : std::min(double(next) * h, D);
-      auto offset = step;
-      auto dt = hn::Set(d, static_cast<float>(h));
-      if (next + used - 1 == n)
+      // Positions and steps in double, as IntegrateRiemann's, then rounded
+      // to float: each lane's value depends on its sample index only, so the
+      // vectors' grouping (which the segments shift) changes no bit.
+      for (int k = 0; k < lanes; k += doubleLanes)
       {
-        const auto last = hn::Eq(iota, hn::Set(d, static_cast<float>(used - 1)));
-        offset = hn::IfThenElse(last, hn::Set(d, static_cast<float>(D - first)), offset);
-        dt = hn::IfThenElse(last, hn::Set(d, static_cast<float>(D - double(n - 1) * h)), dt);
+        const auto i = hn::Iota(dd, double(next + k));
+        const auto t = hn::IfThenElse(hn::Eq(i, hn::Set(dd, double(n))), hn::Set(dd, D),
+          hn::Min(hn::Mul(i, hn::Set(dd, h)), hn::Set(dd, D)));
+        const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
+        hn::Store(hn::DemoteTo(dfHalf, step), dfHalf, dt + k);
+        float* out[3] = { px + k, py + k, pz + k };
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          const auto p = hn::MulAdd(t, hn::Set(dd, direction[axis]), hn::Set(dd, origin[axis]));
+          hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, out[axis]);
+        }
       }
-      auto position = [&](int axis)
-      {
-        return hn::MulAdd(offset, hn::Set(d, static_cast<float>(direction[axis])),
-          hn::Set(d, static_cast<float>(origin[axis] + first * direction[axis])));
-      };
-      Classify<Scalars>(d, volume, tf, position(0), position(1), position(2), dt, alpha, r, g, b);
+      Classify<Scalars>(d, volume, tf, hn::Load(d, px), hn::Load(d, py), hn::Load(d, pz),
+        hn::Load(d, dt), alpha, r, g, b);
       for (int k = 0; k < used; ++k)
       {
         const double a = alpha[k];

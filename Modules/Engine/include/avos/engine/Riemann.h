@@ -1,25 +1,27 @@
 // The vectorised Riemann kernel of the ray-casting engine (VTK-free).
 //
-// CastRiemann evaluates exactly the sum of numerics::IntegrateRiemann in its
+// CastRiemann evaluates the sum of numerics::IntegrateRiemann in its
 // exponential form (samples at t_i = min(i h, D) inside the ray's segments,
 // alpha_i = 1 - e^{-tau(s_i) dt_i}, front-to-back compositing, early
 // termination once T <= bound / max(1, max C)), with the per-sample work
-// (trilinear interpolation from eight gathered corners, the transfer
-// function, the exponential, VTK's -ln(1 - alpha)) done in float SIMD lanes,
-// a lane per consecutive sample of the ray, through Google Highway with
-// runtime dispatch (AVX-512, AVX2, SSE4, and the portable targets). The
-// sample positions and the compositing stay in double.
+// (trilinear interpolation from gathered corners, the transfer function, the
+// exponential, VTK's -ln(1 - alpha)) in float SIMD lanes, a lane per
+// consecutive sample of the ray, through Google Highway with runtime dispatch
+// (AVX-512, AVX2, SSE4, SSSE3, scalar). Sample positions and steps are
+// computed in double from the sample index alone (so the result does not
+// depend on how samples fall into vectors: empty-space skipping stays exact
+// to the bit) and rounded to float; compositing is in double.
 //
 // Error bound against the double sum, per channel, without early
-// termination: 1e-4 (positions rounded to float move a sample by at most
+// termination: 1e-4. Positions rounded to float move a sample by at most
 // 3e-5 voxel in a 512^3 volume; float scalars round 32-bit integers and
-// doubles to 24 bits, 8- and 16-bit ones are exact; interpolation, transfer
-// function and
-// exponentials in float add relative errors of a few 1e-7 per sample, and
-// the sum of the per-sample opacities telescopes, so they do not accumulate
-// past the largest one). With early termination a ray whose transmittance
-// lands within that rounding of the bound may take one sample more or less
-// than the double sum: then the difference is at most the bound itself.
+// doubles to 24 bits (8- and 16-bit ones are exact); interpolation, transfer
+// function and the vector exponential and logarithm (4 ulp) add relative
+// errors of a few 1e-7 per sample, and since the per-sample opacities
+// telescope (sum T_i alpha_i = 1 - T) they do not accumulate past the
+// largest one. With early termination a ray whose transmittance lands within
+// that rounding of the bound may take one sample more or less than the
+// double sum: then the difference is at most the bound itself.
 // Modules/Engine/Testing checks both on every dispatch target.
 #ifndef avos_engine_Riemann_h
 #define avos_engine_Riemann_h
