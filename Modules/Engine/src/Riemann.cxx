@@ -215,11 +215,11 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
           hn::Min(hn::Mul(i, hn::Set(dd, h)), hn::Set(dd, D)));
         const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
         hn::Store(hn::DemoteTo(dfHalf, step), dfHalf, dt + k);
-        float* out[3] = { px + k, py + k, pz + k };
+        float* positions[3] = { px + k, py + k, pz + k };
         for (int axis = 0; axis < 3; ++axis)
         {
           const auto p = hn::MulAdd(t, hn::Set(dd, direction[axis]), hn::Set(dd, origin[axis]));
-          hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, out[axis]);
+          hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, positions[axis]);
         }
       }
       Classify<Scalars>(d, volume, tf, hn::Load(d, px), hn::Load(d, py), hn::Load(d, pz),
