@@ -19,6 +19,7 @@
 #include "vtkVolumeProperty.h"
 
 #include "avosEmptySpaceRanges.h"
+#include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
@@ -292,12 +293,8 @@ public:
   double PiecesRelativeError = 0.0;
   vtkTimeStamp PiecesTime;
   // The vectorised engine's inputs (RIEMANN): the scalars as the kernels
-  // read them (8- and 16-bit as they are, padded; others in float), rebuilt
-  // with the empty-space ranges (when the scalars change), and the transfer
-  // table, rebuilt with the classification.
-  std::vector<unsigned char> EngineScalars;
-  avos::engine::Volume EngineVolume;
-  vtkMTimeType EngineVolumeTime = 0;
+  // read them, and the transfer table, rebuilt with the classification.
+  avos::EngineVolume EngineScalars;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
 
@@ -569,47 +566,11 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
   }
 
-  // Scalars and transfer function -> the vectorised engine's copies (RIEMANN).
-  bool engine = this->IntegrationMethod == RIEMANN;
-  if (engine && internals.EngineVolumeTime != internals.Ranges.GetTime())
-  {
-    using Type = avos::engine::Volume::Type;
-    const int type = scalars->GetDataType();
-    const Type kept = type == VTK_UNSIGNED_CHAR
-      ? Type::UInt8
-      : (type == VTK_UNSIGNED_SHORT ? Type::UInt16 : Type::Float32);
-    const std::size_t bytes = kept == Type::UInt8 ? 1 : (kept == Type::UInt16 ? 2 : 4);
-    const vtkIdType count = scalars->GetNumberOfTuples();
-    internals.EngineScalars.assign(
-      bytes * static_cast<std::size_t>(count) + avos::engine::Volume::Padding, 0);
-    unsigned char* target = internals.EngineScalars.data();
-    auto convert = [&](auto* data)
-    {
-      vtkSMPTools::For(0, count,
-        [&](vtkIdType begin, vtkIdType end)
-        {
-          if (kept != Type::Float32)
-          {
-            std::copy(reinterpret_cast<const unsigned char*>(data + begin),
-              reinterpret_cast<const unsigned char*>(data + end), target + bytes * begin);
-            return;
-          }
-          float* floats = reinterpret_cast<float*>(target);
-          for (vtkIdType i = begin; i < end; ++i)
-          {
-            floats[i] = static_cast<float>(data[i]);
-          }
-        });
-    };
-    switch (type)
-    {
-      vtkTemplateMacro(convert(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
-    }
-    internals.EngineVolume.Data = target;
-    internals.EngineVolume.Scalars = kept;
-    std::copy(dims, dims + 3, internals.EngineVolume.Dimensions);
-    internals.EngineVolumeTime = internals.Ranges.GetTime();
-  }
+  // Scalars and transfer function -> the vectorised engine's copies (RIEMANN;
+  // volumes beyond its 32-bit indices take the scalar sum).
+  const avos::engine::Volume* engine = this->IntegrationMethod == RIEMANN
+    ? internals.EngineScalars.Update(scalars, dims)
+    : nullptr;
   if (engine && internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error = internals.EngineTable.Build(internals.TF);
@@ -620,8 +581,6 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
     internals.EngineTableTime.Modified();
   }
-  // Volumes beyond the kernels' 32-bit indices take the scalar sum.
-  engine = engine && avos::engine::Validate(internals.EngineVolume).empty();
 
   // Frame: camera, viewport, image size and depth buffer.
   int viewportWidth, viewportHeight, x0, y0;
@@ -756,7 +715,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.SampleDistance = this->SampleDistance;
     method.TerminationBound = 0.2 * this->Tolerance;
     method.Pieces = piecewise ? &internals.Pieces : nullptr;
-    method.EngineVolume = engine ? &internals.EngineVolume : nullptr;
+    method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
 
     vtkSMPThreadLocal<ThreadStatistics> statistics;

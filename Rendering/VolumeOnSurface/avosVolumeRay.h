@@ -13,6 +13,7 @@
 #include "vtkType.h"
 
 #include "avosEmptySpaceRanges.h"
+#include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
@@ -48,6 +49,10 @@ struct VolumeRaySetup
   double Voxel = 1.0; // world length of one voxel unit (the shortest grid step)
   avos::numerics::TransferFunction<double> TF;
   avos::numerics::PiecewiseTransferFunction<double> Pieces; // for RayIntegration::Piecewise
+  // For RayIntegration::Levoy: the vectorised Riemann kernel's volume
+  // (EngineVolume; null: the scalar sum) and transfer table.
+  const avos::engine::Volume* Engine = nullptr;
+  avos::engine::TransferTable Table;
   RayIntegration Method = RayIntegration::Levoy;
   double SampleDistance = 0.5;
   avos::numerics::AdaptiveSettings<double> Settings;
@@ -90,6 +95,14 @@ struct VolumeRaySetup
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
+    }
+    if (method == RayIntegration::Levoy)
+    {
+      const std::string tableError = this->Table.Build(this->TF);
+      if (!tableError.empty())
+      {
+        return "unusable transfer function: " + tableError;
+      }
     }
     if (method == RayIntegration::Piecewise)
     {
@@ -178,6 +191,16 @@ public:
       return avos::numerics::IntegratePiecewise(this->Volume, origin, -step, segments.data(),
         segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance)
         .RGBA;
+    }
+    if (this->Setup.Engine)
+    {
+      // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
+      avos::engine::RayOutput out;
+      const glm::dvec3 back = -step;
+      avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &back.x, D,
+        this->Setup.SampleDistance, segments.data(), segments.size(),
+        0.2 * this->Setup.Settings.Tolerance, out);
+      return glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
     }
     return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
       avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),

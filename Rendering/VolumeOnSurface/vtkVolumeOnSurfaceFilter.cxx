@@ -67,6 +67,7 @@ public:
   PrevisualizationKey Key;
   bool HaveRays = false;
   avos::EmptySpaceCache EmptySpace;
+  avos::EngineVolume EngineScalars;
   // Per vertex and ray: the direction (world) and the integrated RGBA.
   std::vector<glm::fvec3> Directions;
   std::vector<glm::fvec4> Colors;
@@ -264,6 +265,9 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       return 1;
     }
     setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
+    setup.Engine = setup.Method == avos::RayIntegration::Levoy
+      ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
+      : nullptr;
     in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
     const double sign = this->FlipNormals ? -1.0 : 1.0;

@@ -71,6 +71,7 @@ public:
   int DrawnLevel = -1;
   double SecondsPerRay = 0.0;
   avos::EmptySpaceCache EmptySpace;
+  avos::EngineVolume EngineScalars;
 
   vtkNew<vtkPolyData> Drawn;
   vtkSmartPointer<vtkPolyDataMapper> Delegate;
@@ -301,6 +302,9 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       return;
     }
     setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
+    setup.Engine = setup.Method == avos::RayIntegration::Levoy
+      ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
+      : nullptr;
     double direction[3];
     camera->GetDirectionOfProjection(direction);
     const glm::dvec3 eye(key.Eye[0], key.Eye[1], key.Eye[2]);

@@ -1,0 +1,40 @@
+// A volume's scalars as the vectorised engine reads them (avos/engine/
+// Riemann.h): 8- and 16-bit unsigned scalars as they are, padded, any other
+// type converted to float; rebuilt only when the scalars (the array or its
+// MTime) or the dimensions change. Shared by vtkAdaptiveVolumeMapper and the
+// Volume-on-Surface rays. Not wrapped.
+#ifndef avosEngineVolume_h
+#define avosEngineVolume_h
+
+#include "avosRenderingAdaptiveVolumeModule.h" // For export macro
+#include "vtkType.h"
+
+#include "avos/engine/Riemann.h"
+
+#include <array>
+#include <vector>
+
+class vtkDataArray;
+
+namespace avos
+{
+class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EngineVolume
+{
+public:
+  /// The engine's view of the scalars (single component, one per grid point
+  /// of `dimensions`), brought up to date; null when the engine cannot take
+  /// the volume (beyond its 32-bit indices, or an unknown scalar type): the
+  /// caller then takes the scalar path.
+  const avos::engine::Volume* Update(vtkDataArray* scalars, const int dimensions[3]);
+
+private:
+  std::vector<unsigned char> Data;
+  avos::engine::Volume View;
+  bool Usable = false;
+  vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
+  vtkMTimeType ScalarsTime = 0;
+  std::array<int, 3> Dimensions{ { 0, 0, 0 } };
+};
+}
+
+#endif
