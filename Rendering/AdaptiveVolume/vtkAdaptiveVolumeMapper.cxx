@@ -122,8 +122,9 @@ struct Method
   an::AdaptiveSettings<double> Adaptive;
   double SampleDistance = 0.5;
   double TerminationBound = 0.0;
-  // The transfer function cut into linear extinction pieces, for the
-  // piecewise methods (PIECEWISE_ADAPTIVE; REFERENCE in the extinction model).
+  // The transfer function in pieces with polynomial extinction (Pieces.h),
+  // for the piecewise methods (PIECEWISE_ADAPTIVE; REFERENCE in the
+  // extinction model).
   const an::PiecewiseTransferFunction<double>* Pieces = nullptr;
   // The vectorised engine's copy of the volume and transfer function, for
   // RIEMANN (null: the scalar sum).
@@ -540,7 +541,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifyTime.Modified();
   }
 
-  // Transfer function -> linear extinction pieces, for the piecewise methods.
+  // Transfer function -> pieces with polynomial extinction, for the
+  // piecewise methods.
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
     (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY);
   if (piecewise)
