@@ -195,10 +195,15 @@ def report(rows, growth, path):
 
 
 def main():
+    global RENDER, DATA, OUT
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true",
                         help="Bonsai only, default view, 400x300, 2 frames (a smoke run)")
+    parser.add_argument("--render", default=RENDER, help="avos-render (default: build/bin)")
+    parser.add_argument("--data", default=DATA, help="the shared data folder")
+    parser.add_argument("--output", default=OUT, help="results folder (default out/bench-engine)")
     args = parser.parse_args()
+    RENDER, DATA, OUT = args.render, args.data, args.output
     os.makedirs(OUT, exist_ok=True)
     rows = []
     frames = 2 if args.quick else 5
@@ -209,6 +214,7 @@ def main():
     if args.quick:
         run_config(rows, "Bonsai", scenes["Bonsai"] + ["--size", "400x300"] + VIEWS["default"],
                    "default", "400x300", 2, frames)
+        json.dump(rows, open(os.path.join(OUT, "results.json"), "w"), indent=1)
         report(rows, [], os.path.join(OUT, "report.md"))
         return
     for name in DATASETS:
