@@ -20,6 +20,7 @@
 // once, the runs use the very classes a user calls (each in a window of its
 // own), and the plots come from VTK's charts, so the tool needs nothing VTK
 // does not have.
+#include "AdversarialReport.h"
 #include "avosBenchPlots.h"
 #include "avosPaperTables.h"
 #include "avosRenderSession.h"
@@ -60,6 +61,7 @@ namespace paper = avos::paper;
 const char* Usage =
   "usage: avos-bench [--data DIR] [--datasets NAME,...] [--size WxH] [--frames N]\n"
   "                  [--threads N] [--output DIR] [--trace X,Y] [--quick] [--replot]\n"
+  "                  [--adversarial RAYS]\n"
   "--data: the shared data folder (default ../shared/data).\n"
   "--datasets: any of BluntFin, Bonsai, Engine, Foot (default all four).\n"
   "--size: image size (default 800x600). --frames: timed frames per run, after\n"
@@ -67,7 +69,11 @@ const char* Usage =
   "--trace: the pixel whose ray Figure 6 follows (default: chosen on Bonsai).\n"
   "--quick: BluntFin and Bonsai at 96x72, one frame, no warm-up (for CI).\n"
   "--output: the results folder (default out/bench).\n"
-  "--replot: no rendering; redraw the plots from the CSV files in --output.\n";
+  "--replot: no rendering; redraw the plots from the CSV files in --output.\n"
+  "--adversarial: no rendering; the numerical core's adversarial accuracy suite (thin\n"
+  "layers, jumps, extinction 50, Marschner-Lobb, random 64-knot functions) with RAYS\n"
+  "random rays per case, the piecewise, coupled and decoupled methods against the\n"
+  "exact reference, into --output/adversarial.md (100000 for the issue's figures).\n";
 
 struct Dataset
 {
@@ -98,6 +104,7 @@ struct Options
   int TraceX = -1;
   int TraceY = -1;
   bool Replot = false;
+  long AdversarialRays = 0; // > 0: only the adversarial suite
 };
 
 struct Run
@@ -242,6 +249,14 @@ std::string Parse(int argc, char* argv[], Options& o)
       if (!(in >> o.TraceX >> x >> o.TraceY) || x != ',' || o.TraceX < 0 || o.TraceY < 0)
       {
         return "--trace needs X,Y pixel coordinates";
+      }
+    }
+    else if (arg == "--adversarial")
+    {
+      if (!(in >> o.AdversarialRays) || !in.eof() || o.AdversarialRays < 1 ||
+        o.AdversarialRays > 10000000)
+      {
+        return "--adversarial needs a number of rays between 1 and 10000000";
       }
     }
     else if (arg == "--frames" || arg == "--threads")
@@ -886,6 +901,22 @@ int main(int argc, char* argv[])
       return EXIT_FAILURE;
     }
     return WritePlots(o, runs, traces) ? EXIT_SUCCESS : EXIT_FAILURE;
+  }
+  if (o.AdversarialRays > 0)
+  {
+    const std::string path = o.Output + "/adversarial.md";
+    std::FILE* file = vtksys::SystemTools::MakeDirectory(o.Output)
+      ? vtksys::SystemTools::Fopen(path, "w")
+      : nullptr;
+    if (!file)
+    {
+      std::cerr << "error: cannot write '" << path << "'\n";
+      return EXIT_FAILURE;
+    }
+    adversarial::WriteReport(file, o.AdversarialRays, o.Threads > 0 ? o.Threads : 2);
+    std::fclose(file);
+    std::cout << "adversarial suite: " << path << "\n";
+    return EXIT_SUCCESS;
   }
   if (o.Threads > 0)
   {

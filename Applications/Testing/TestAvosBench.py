@@ -1,4 +1,4 @@
-"""avos-bench --quick end to end: every output exists and is consistent with
+"""avos-bench --quick and --adversarial end to end: every output exists and is consistent with
 itself and with what the methods promise (not timings, which CI cannot pin):
 references have no error; percentages above 0.01 <= 0.005 <= 0.001; mean <=
 99.9th percentile <= max; histograms count every compared ray; Riemann's
@@ -128,8 +128,29 @@ check(code == 0 and all(os.path.getsize(os.path.join(SCRATCH, name)) > 1000 for 
 code, out = run("--replot", "--output", os.path.join(SCRATCH, "nothing"))
 check(code != 0 and "no results" in out, "--replot without results is refused: " + out[-300:])
 
+# --adversarial: the numerical core's suite, no rendering. Every piecewise
+# row keeps every ray within eps (>= 99.9 % required) with its largest error
+# within 2 eps; the paper's coupled rule misses by more than 10 eps somewhere.
+adversarial = os.path.join(SCRATCH, "adversarial")
+code, out = run("--adversarial", "300", "--output", adversarial)
+check(code == 0, "--adversarial runs: " + out[-300:])
+rows = []
+if code == 0:
+    for line in open(os.path.join(adversarial, "adversarial.md")):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 13 and cells[1] in ("piecewise", "coupled", "decoupled"):
+            rows.append(cells)
+check(len(rows) == 8 * 9, "8 cases x 3 methods x 3 tolerances: %d rows" % len(rows))
+for cells in rows:
+    if cells[1] == "piecewise":
+        check(min(float(v) for v in cells[3:7]) >= 99.9 and float(cells[8]) <= 2.0,
+              "piecewise within eps: %r" % cells)
+check(any(cells[1] == "coupled" and float(cells[8]) > 10.0 for cells in rows),
+      "coupled misses eps by more than 10x somewhere")
+
 # Bad command lines.
 for args, message in [(["--datasets", "Teapot"], "unknown dataset"),
+                      (["--adversarial", "0"], "--adversarial needs"),
                       (["--size", "80"], "--size needs"),
                       (["--frames", "0"], "whole number"),
                       (["--bogus", "1"], "unknown option")]:

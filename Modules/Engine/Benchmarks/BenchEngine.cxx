@@ -91,7 +91,8 @@ void Scalar(benchmark::State& state)
     {
       const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
         ray.Direction };
-      const auto r = an::IntegrateRiemann(field, f.TF, ray.Length, 0.5, an::RiemannForm::Exponential);
+      const auto r =
+        an::IntegrateRiemann(field, f.TF, ray.Length, 0.5, an::RiemannForm::Exponential);
       benchmark::DoNotOptimize(r.RGBA);
       samples += r.Statistics.Samples;
       ++rays;
@@ -134,10 +135,9 @@ void RegisterTargets()
   {
     for (int alpha : { 0, 1 })
     {
-      benchmark::RegisterBenchmark(
-        (std::string("Vectorised/") + hwy::TargetName(target) + "/vtk_opacity:" +
-          std::to_string(alpha))
-          .c_str(),
+      benchmark::RegisterBenchmark((std::string("Vectorised/") + hwy::TargetName(target) +
+                                     "/vtk_opacity:" + std::to_string(alpha))
+                                     .c_str(),
         Vectorised)
         ->Args({ target, alpha })
         ->Unit(benchmark::kMillisecond);

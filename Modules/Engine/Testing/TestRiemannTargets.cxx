@@ -196,8 +196,8 @@ TEST_P(RiemannTargets, EqualsTheDoubleSumWithTermination)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Engine, RiemannTargets,
-  ::testing::ValuesIn(hwy::SupportedAndGeneratedTargets()), Name);
+INSTANTIATE_TEST_SUITE_P(
+  Engine, RiemannTargets, ::testing::ValuesIn(hwy::SupportedAndGeneratedTargets()), Name);
 
 // The kernels refuse what their 32-bit indices cannot address.
 TEST(Riemann, Validate)

@@ -28,8 +28,8 @@ constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(float);
 // The scalars at base + offset and base + offset + 1 (a corner and its x
 // neighbour) for every lane.
 template <Volume::Type Scalars, class D, class VI>
-HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, hn::Vec<D>& first,
-  hn::Vec<D>& second)
+HWY_INLINE void Pair(
+  D d, const void* data, VI base, std::int32_t offset, hn::Vec<D>& first, hn::Vec<D>& second)
 {
   const hn::RebindToSigned<D> di;
   const auto index = hn::Add(base, hn::Set(di, offset));
@@ -44,12 +44,12 @@ HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, hn::Ve
     // One 32-bit word from the corner's byte on holds both neighbours
     // (little endian); the volume is padded for the last one.
     const bool bytes = Scalars == Volume::Type::UInt8;
-    const auto words = hn::GatherOffset(di, static_cast<const std::int32_t*>(data),
-      bytes ? index : hn::ShiftLeft<1>(index));
+    const auto words = hn::GatherOffset(
+      di, static_cast<const std::int32_t*>(data), bytes ? index : hn::ShiftLeft<1>(index));
     const auto mask = hn::Set(di, bytes ? 0xFF : 0xFFFF);
     first = hn::ConvertTo(d, hn::And(words, mask));
-    second = hn::ConvertTo(d,
-      hn::And(bytes ? hn::ShiftRight<8>(words) : hn::ShiftRight<16>(words), mask));
+    second =
+      hn::ConvertTo(d, hn::And(bytes ? hn::ShiftRight<8>(words) : hn::ShiftRight<16>(words), mask));
   }
 }
 
@@ -72,7 +72,8 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   const auto fx = locate(px, nx, ix);
   const auto fy = locate(py, ny, iy);
   const auto fz = locate(pz, nz, iz);
-  const auto base = hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
+  const auto base =
+    hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
   hn::Vec<D> v000, v100, v010, v110, v001, v101, v011, v111;
   Pair<Scalars>(d, volume.Data, base, 0, v000, v100);
   Pair<Scalars>(d, volume.Data, base, sy, v010, v110);
@@ -98,7 +99,8 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   {
     for (std::int32_t k = 0; k < m; ++k)
     {
-      piece = hn::Add(piece, hn::IfThenElseZero(hn::RebindMask(di, hn::Le(hn::Set(d, knots[k]), s)), one));
+      piece = hn::Add(
+        piece, hn::IfThenElseZero(hn::RebindMask(di, hn::Le(hn::Set(d, knots[k]), s)), one));
     }
   }
   else
@@ -107,9 +109,9 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
     // rounding).
     const auto scaled = hn::Mul(hn::Sub(s, hn::Set(d, knots[0])), hn::Set(d, tf.BucketScale));
     const auto last = static_cast<std::int32_t>(tf.Buckets.size() - 1);
-    const auto bucket = hn::Min(
-      hn::ConvertTo(di, hn::Min(hn::Max(scaled, hn::Zero(d)), hn::Set(d, float(last)))),
-      hn::Set(di, last));
+    const auto bucket =
+      hn::Min(hn::ConvertTo(di, hn::Min(hn::Max(scaled, hn::Zero(d)), hn::Set(d, float(last)))),
+        hn::Set(di, last));
     piece = hn::GatherIndex(di, tf.Buckets.data(), bucket);
     for (;;)
     {
@@ -149,8 +151,8 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
     const auto opaque = hn::Set(d, tf.OpaqueExtinction);
     const auto rest = hn::Max(hn::Sub(hn::Set(d, 1.0f), opacity), hn::Set(d, 1e-30f));
     const auto depth = hn::Min(hn::Neg(hn::Log(d, rest)), opaque);
-    tau = hn::Mul(hn::IfThenElse(hn::Ge(opacity, hn::Set(d, 1.0f)), opaque, depth),
-      hn::Set(d, tf.InverseUnit));
+    tau = hn::Mul(
+      hn::IfThenElse(hn::Ge(opacity, hn::Set(d, 1.0f)), opaque, depth), hn::Set(d, tf.InverseUnit));
   }
   const auto a = hn::Neg(hn::Expm1(d, hn::Neg(hn::Mul(tau, dt))));
   hn::Store(a, d, alpha);

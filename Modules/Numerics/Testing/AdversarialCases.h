@@ -36,8 +36,8 @@ struct Case
 
 constexpr int N = 40;
 
-inline Case MakeVolume(const std::string& name, double (*field)(double, double, double, unsigned),
-  unsigned seed)
+inline Case MakeVolume(
+  const std::string& name, double (*field)(double, double, double, unsigned), unsigned seed)
 {
   Case c;
   c.Name = name;
@@ -279,8 +279,7 @@ inline an::RayResult<double> Integrate(const Case& c,
   }
   an::AdaptiveSettings<double> settings;
   settings.Tolerance = eps;
-  settings.Coupling =
-    method == Method::Coupled ? an::Strategy::Coupled : an::Strategy::Decoupled;
+  settings.Coupling = method == Method::Coupled ? an::Strategy::Coupled : an::Strategy::Decoupled;
   settings.FieldMinimum = 0.0;
   settings.FieldMaximum = 255.0;
   const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
@@ -298,7 +297,10 @@ struct Tally
   double Cells = 0;   // per ray (piecewise)
   long Failures = 0;  // rays that returned an error
 
-  double Percent(int channel) const { return 100.0 * this->Within[channel] / std::max(1L, this->Rays); }
+  double Percent(int channel) const
+  {
+    return 100.0 * this->Within[channel] / std::max(1L, this->Rays);
+  }
   double WorstPercent() const
   {
     return std::min({ this->Percent(0), this->Percent(1), this->Percent(2), this->Percent(3) });
@@ -319,8 +321,8 @@ inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int thr
   {
     for (unsigned i = begin; i < end; ++i)
     {
-      rgba[i] = Integrate(c, tf, MakeRay(c, i), Method::Reference,
-        an::PiecewiseReferenceTolerance<double>())
+      rgba[i] = Integrate(
+        c, tf, MakeRay(c, i), Method::Reference, an::PiecewiseReferenceTolerance<double>())
                   .RGBA;
     }
   };

@@ -147,7 +147,8 @@ TEST(Piecewise, ReferenceIsExactOnLinearFields)
       ASSERT_EQ(r.Error, "");
       for (int c = 0; c < 4; ++c)
       {
-        EXPECT_NEAR(r.RGBA[c], exact[c], 1e-9) << "seed " << seed << " ray " << i << " channel " << c;
+        EXPECT_NEAR(r.RGBA[c], exact[c], 1e-9)
+          << "seed " << seed << " ray " << i << " channel " << c;
       }
     }
   }
@@ -212,7 +213,8 @@ TEST(Piecewise, AlphaModelHoldsTolerance)
       const adversarial::Ray ray = RandomRay(dims, rng);
       const an::RayField<double, Volume> field{ volume, ray.Origin, ray.Direction };
       const auto expected = an::IntegrateReference(field, tf, ray.Length);
-      const auto r = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, ray.Length, ptf, eps);
+      const auto r =
+        an::IntegratePiecewise(volume, ray.Origin, ray.Direction, ray.Length, ptf, eps);
       for (int c = 0; c < 4; ++c)
       {
         worst = std::max(worst, std::abs(r.RGBA[c] - expected.RGBA[c]));
@@ -308,8 +310,8 @@ TEST(Piecewise, BadInput)
   {
     EXPECT_NE(an::IntegratePiecewise(volume, o, d, 2.0, ptf, eps).Error, "") << eps;
   }
-  EXPECT_NE(an::IntegratePiecewise(volume, o, d, std::numeric_limits<double>::infinity(), ptf, 1e-3)
-              .Error,
+  EXPECT_NE(
+    an::IntegratePiecewise(volume, o, d, std::numeric_limits<double>::infinity(), ptf, 1e-3).Error,
     "");
   EXPECT_NE(an::IntegratePiecewise(volume, glm::dvec3(std::nan("")), d, 2.0, ptf, 1e-3).Error, "");
   const an::PiecewiseTransferFunction<double> unbuilt;
@@ -342,8 +344,8 @@ TEST(Piecewise, LocateEqualsBinarySearch)
     std::vector<double> probes{ -1.0, 300.0 };
     for (double k : knots)
     {
-      probes.insert(probes.end(),
-        { k, std::nextafter(k, -1e9), std::nextafter(k, 1e9), k + 1e-3, k - 1e-3 });
+      probes.insert(
+        probes.end(), { k, std::nextafter(k, -1e9), std::nextafter(k, 1e9), k + 1e-3, k - 1e-3 });
     }
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-5.0, 260.0);

@@ -137,8 +137,8 @@ public:
           B = Real(2) * (fx - Real(2) * fm + fy) / (w * w);
         }
         const Real A = (fy - fx) / w - B * w;
-        this->Add(s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start),
-          p.ColourSlope);
+        this->Add(
+          s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start), p.ColourSlope);
       }
     }
     // Prefix counts of visible pieces: a piece is visible unless tau is zero
@@ -493,15 +493,16 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
   }
   const std::vector<Real>& knots = tf.GetKnots();
-  Real c[8];                  // the corners of cell `loaded`
+  Real c[8]; // the corners of cell `loaded`
   int loaded[3] = { 0, 0, 0 };
   bool haveCorners = false;
-  int lastAxis = 0;           // the axis of the last step
+  int lastAxis = 0; // the axis of the last step
   Real t = tBegin;
   const int maximumCells = n[0] + n[1] + n[2] + 3;
   for (int visited = 0; visited < maximumCells && t < tEnd; ++visited)
   {
-    const int axis = tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
+    const int axis =
+      tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
     const Real t1 = std::min(tMax[axis], tEnd);
     if (t1 > t)
     {

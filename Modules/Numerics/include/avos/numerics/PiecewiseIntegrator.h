@@ -333,8 +333,8 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     const Real EL = std::exp(-thetaL);
     const Real Ta = T, Tb = T * EL;
     color += Ta * (p.Colour + p.ColourSlope * q.K[0]) - Tb * (p.Colour + p.ColourSlope * q(l));
-    const Real cs = std::max({ std::abs(p.ColourSlope.x), std::abs(p.ColourSlope.y),
-      std::abs(p.ColourSlope.z) });
+    const Real cs =
+      std::max({ std::abs(p.ColourSlope.x), std::abs(p.ColourSlope.y), std::abs(p.ColourSlope.z) });
     if (cs > Real(0) && Ta > Real(0))
     {
       // The error J may have on [v, v + h], spending e^{-theta} from Ev to Eh.

@@ -59,7 +59,10 @@ public:
     return v0 + fz * (v1 - v0);
   }
 
-  int GetDimension(int axis) const { return axis == 0 ? this->Nx : (axis == 1 ? this->Ny : this->Nz); }
+  int GetDimension(int axis) const
+  {
+    return axis == 0 ? this->Nx : (axis == 1 ? this->Ny : this->Nz);
+  }
 
   // The grid point (i, j, k).
   Real At(int i, int j, int k) const { return Real(this->Data[i + j * this->Sy + k * this->Sz]); }

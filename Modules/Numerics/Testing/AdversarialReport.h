@@ -1,0 +1,60 @@
+// The adversarial accuracy suite's report (Markdown): for each case of
+// AdversarialCases.h, the exact reference of `rays` random rays, then the
+// piecewise, coupled and decoupled methods at eps 0.01, 0.001 and 1e-4: % of
+// rays within eps per RGBA channel, the largest error, samples, cells and
+// pieces per ray, seconds. Written by avos-bench-accuracy and avos-bench
+// --adversarial.
+#ifndef avos_numerics_AdversarialReport_h
+#define avos_numerics_AdversarialReport_h
+
+#include "AdversarialCases.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace adversarial
+{
+inline double Seconds(std::chrono::steady_clock::time_point since)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+inline void WriteReport(std::FILE* file, long rays, int threads)
+{
+  std::fprintf(
+    file, "# Adversarial accuracy suite: %ld random rays per case, %d threads\n\n", rays, threads);
+  std::fprintf(file,
+    "Volumes of %d^3 points, scalars in [0, 255]; errors against the exact piecewise "
+    "reference (eps 1e-10); coupled and decoupled with the paper's steps (h0 0.5, "
+    "hmin 0.1, hmax 2).\n\n",
+    N);
+  std::fprintf(file,
+    "| case | method | eps | %% within eps R | G | B | A | max error | max / eps | "
+    "samples/ray | cells/ray | pieces/ray | s |\n");
+  std::fprintf(file, "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Case& c : MakeSuite())
+  {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<glm::dvec4> reference = References(c, static_cast<unsigned>(rays), threads);
+    std::fprintf(file, "| %s | reference | 1e-10 | | | | | | | | | | %.2f |\n", c.Name.c_str(),
+      Seconds(start));
+    for (double eps : { 1e-2, 1e-3, 1e-4 })
+    {
+      for (Method m : { Method::Piecewise, Method::Coupled, Method::Decoupled })
+      {
+        const auto begin = std::chrono::steady_clock::now();
+        const Tally t = Measure(c, reference, m, eps, threads);
+        std::fprintf(file,
+          "| %s | %s | %g | %.3f | %.3f | %.3f | %.3f | %.2e | %.2f | %.1f | %.1f | %.1f "
+          "| %.2f |\n",
+          c.Name.c_str(), MethodName(m), eps, t.Percent(0), t.Percent(1), t.Percent(2),
+          t.Percent(3), t.WorstMaximum(), t.WorstMaximum() / eps, t.Samples, t.Cells, t.Pieces,
+          Seconds(begin));
+        std::fflush(file);
+      }
+    }
+  }
+}
+} // namespace adversarial
+
+#endif
