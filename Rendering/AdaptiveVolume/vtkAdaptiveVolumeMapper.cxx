@@ -420,10 +420,11 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (this->IntegrationMethod == PIECEWISE_ADAPTIVE && this->OpacityModel == VTK_OPACITY &&
     this->Tolerance < 8e-7)
   {
-    vtkErrorMacro(<< "In VTK's opacity model the piecewise method's tolerance must be at least "
-                     "8e-7 (its extinction -ln(1 - alpha) is approximated within a relative eps / 8 "
-                     "between extra knots), not "
-                  << this->Tolerance << ".");
+    vtkErrorMacro(
+      << "In VTK's opacity model the piecewise method's tolerance must be at least "
+         "8e-7 (its extinction -ln(1 - alpha) is approximated within a relative eps / 8 "
+         "between extra knots), not "
+      << this->Tolerance << ".");
     return fail();
   }
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
@@ -570,9 +571,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // Scalars and transfer function -> the vectorised engine's copies (RIEMANN;
   // volumes beyond its 32-bit indices take the scalar sum).
-  const avos::engine::Volume* engine = this->IntegrationMethod == RIEMANN
-    ? internals.EngineScalars.Update(scalars, dims)
-    : nullptr;
+  const avos::engine::Volume* engine =
+    this->IntegrationMethod == RIEMANN ? internals.EngineScalars.Update(scalars, dims) : nullptr;
   if (engine && internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error = internals.EngineTable.Build(internals.TF);

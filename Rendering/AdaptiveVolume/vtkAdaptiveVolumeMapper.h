@@ -213,8 +213,8 @@ public:
    * units from where it enters the volume's box, and "Opacity", the 1 - T
    * reached at the step's end (the paper's Figure 6). Riemann gives its
    * uniform steps, the piecewise method its smooth pieces. False, with an
-   * empty table, when there was no render, the method is the reference, the pixel is outside the image, or its ray
-   * misses the volume's box.
+   * empty table, when there was no render, the method is the reference, the pixel is outside the
+   * image, or its ray misses the volume's box.
    */
   bool TraceRay(int x, int y, vtkTable* steps);
 

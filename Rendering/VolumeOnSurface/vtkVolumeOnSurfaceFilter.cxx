@@ -387,8 +387,7 @@ void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << "\n" << indent << "RaysPerCone: " << this->RaysPerCone << "\n";
   os << indent << "FlipNormals: " << this->FlipNormals << "\n";
   const char* methods[3] = { "Levoy", "Adaptive", "Piecewise" };
-  os << indent << "IntegrationMethod: " << methods[this->IntegrationMethod]
-     << "\n";
+  os << indent << "IntegrationMethod: " << methods[this->IntegrationMethod] << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";

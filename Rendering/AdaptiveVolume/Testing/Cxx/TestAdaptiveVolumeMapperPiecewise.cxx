@@ -189,7 +189,8 @@ int TestAdaptiveVolumeMapperPiecewise(int argc, char* argv[])
       "tolerance 2 refused");
     mapper->SetTolerance(1e-9); // below the alpha model's 8e-7
     window->Render();
-    check(errors.Check("tolerance 1e-9, VTK's model", "must be at least 8e-7") && Pixels(mapper).empty(),
+    check(errors.Check("tolerance 1e-9, VTK's model", "must be at least 8e-7") &&
+        Pixels(mapper).empty(),
       "tolerance 1e-9 refused in VTK's model");
   }
 
