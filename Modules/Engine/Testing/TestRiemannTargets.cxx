@@ -50,7 +50,8 @@ struct Scene
   }
 };
 
-Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::Type::Float32)
+Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::Type::Float32,
+  bool integralKnots = false)
 {
   Scene scene;
   scene.Type = type;
@@ -64,7 +65,8 @@ Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::T
   // 3, 12 or 64 knots: tables that fit one vector of every target, of
   // AVX-512 only, and of none (lane permutations and gathers both tested).
   const int knots[3] = { 3, 12, 64 };
-  scene.Case.TF = adversarial::Random(seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0, top);
+  scene.Case.TF =
+    adversarial::Random(seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0, top, integralKnots);
   if (alpha)
   {
     scene.Case.TF.SetOpacityModel(an::OpacityModel::Alpha, 0.7);
@@ -174,6 +176,26 @@ TEST_P(RiemannTargets, IntegerScalars)
     for (unsigned seed : { 1u, 3u })
     {
       const Scene scene = MakeScene(seed, seed == 3, type);
+      const Worst w = Compare(scene, 300, 0.5, 0.0, true);
+      EXPECT_LE(w.Error, 1e-4) << "type " << int(type) << " seed " << seed;
+      EXPECT_EQ(w.SampleMismatches, 0);
+      EXPECT_GT(w.Opacity, 0.5) << "the rays see the volume";
+    }
+  }
+}
+
+// Integer knots: the transfer table laid out per scalar unit (used where
+// the knots do not fit one vector), 8-bit and float data.
+TEST_P(RiemannTargets, IntegerKnots)
+{
+  for (ae::Volume::Type type : { ae::Volume::Type::UInt8, ae::Volume::Type::Float32 })
+  {
+    for (unsigned seed : { 1u, 2u })
+    {
+      const Scene scene = MakeScene(seed, seed == 2, type, true);
+      ae::TransferTable table;
+      ASSERT_EQ(table.Build(scene.Case.TF), "");
+      EXPECT_GT(table.UnitCount, 200) << "laid out per unit";
       const Worst w = Compare(scene, 300, 0.5, 0.0, true);
       EXPECT_LE(w.Error, 1e-4) << "type " << int(type) << " seed " << seed;
       EXPECT_EQ(w.SampleMismatches, 0);

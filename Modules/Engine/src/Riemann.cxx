@@ -92,9 +92,12 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   const float* knots = tf.Knots.data();
   const auto one = hn::Set(di, 1);
   // A table that fits in one vector is searched by comparisons and read by
-  // lane permutations; a larger one through the bucket grid and gathers.
+  // lane permutations; a larger one per scalar unit (integer knots) or
+  // through the bucket grid, and gathers.
   const bool inRegisters = m + 1 <= static_cast<std::int32_t>(hn::Lanes(d));
+  const bool unit = !inRegisters && tf.UnitCount > 0;
   auto piece = hn::Zero(di);
+  auto start = hn::Zero(d); // the unit piece's first scalar
   if (inRegisters)
   {
     for (std::int32_t k = 0; k < m; ++k)
@@ -102,6 +105,18 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
       piece = hn::Add(
         piece, hn::IfThenElseZero(hn::RebindMask(di, hn::Le(hn::Set(d, knots[k]), s)), one));
     }
+  }
+  else if (unit)
+  {
+    // floor(s) - first knot + 1, clamped to [0, UnitCount] (s clamped first
+    // so that the conversion never overflows).
+    const auto origin = hn::Set(d, tf.UnitOrigin);
+    const auto local = hn::Min(
+      hn::Max(hn::Sub(s, origin), hn::Set(d, -1.0f)), hn::Set(d, static_cast<float>(tf.UnitCount)));
+    const auto floor = hn::Floor(local);
+    piece = hn::Min(
+      hn::Max(hn::Add(hn::ConvertTo(di, floor), one), hn::Zero(di)), hn::Set(di, tf.UnitCount));
+    start = hn::Add(origin, floor);
   }
   else
   {
@@ -141,8 +156,13 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
     return inRegisters ? hn::TableLookupLanes(hn::LoadU(d, v.data()), indices)
                        : hn::GatherIndex(d, v.data(), piece);
   };
-  const auto dd = hn::Min(hn::Max(hn::Sub(s, field(tf.Start)), hn::Zero(d)), field(tf.Length));
-  const auto opacity = hn::MulAdd(field(tf.OpacitySlope), dd, field(tf.Opacity));
+  // The offset into the piece: per unit, from the floor (the end pieces have
+  // zero slopes); otherwise clamped to the piece, as TransferFunction does.
+  const auto dd = unit
+    ? hn::Sub(s, start)
+    : hn::Min(hn::Max(hn::Sub(s, field(tf.Start)), hn::Zero(d)), field(tf.Length));
+  const auto opacity = unit ? hn::MulAdd(field(tf.UnitOpacitySlope), dd, field(tf.UnitOpacity))
+                            : hn::MulAdd(field(tf.OpacitySlope), dd, field(tf.Opacity));
   auto tau = opacity;
   if (tf.Alpha)
   {
@@ -159,7 +179,9 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   float* out[3] = { r, g, b };
   for (int c = 0; c < 3; ++c)
   {
-    hn::Store(hn::MulAdd(field(tf.ColourSlope[c]), dd, field(tf.Colour[c])), d, out[c]);
+    hn::Store(unit ? hn::MulAdd(field(tf.UnitColourSlope[c]), dd, field(tf.UnitColour[c]))
+                   : hn::MulAdd(field(tf.ColourSlope[c]), dd, field(tf.Colour[c])),
+      d, out[c]);
   }
 }
 
@@ -383,6 +405,48 @@ std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
     const float edge = this->Knots.front() + span * float(k) / float(buckets);
     this->Buckets.push_back(static_cast<std::int32_t>(
       std::upper_bound(this->Knots.begin(), this->Knots.end(), edge) - this->Knots.begin()));
+  }
+  // Per scalar unit, when every knot is an integer (at most 65536 units).
+  this->UnitCount = 0;
+  for (std::vector<float>* v : { &this->UnitOpacity, &this->UnitOpacitySlope, &this->UnitColour[0],
+         &this->UnitColour[1], &this->UnitColour[2], &this->UnitColourSlope[0],
+         &this->UnitColourSlope[1], &this->UnitColourSlope[2] })
+  {
+    v->clear();
+  }
+  const double first = pieces.front().Start, last = pieces.back().Start;
+  const bool integral = std::all_of(pieces.begin(), pieces.end(),
+    [](const numerics::TransferFunction<double>::Piece& p)
+    { return p.Start == std::floor(p.Start); });
+  if (integral && last - first < 65536.0)
+  {
+    this->UnitOrigin = static_cast<float>(first);
+    this->UnitCount = static_cast<std::int32_t>(last - first) + 1;
+    auto unitAdd = [this](double opacity, double opacitySlope, const glm::dvec3& colour,
+                     const glm::dvec3& colourSlope)
+    {
+      this->UnitOpacity.push_back(float(opacity));
+      this->UnitOpacitySlope.push_back(float(opacitySlope));
+      for (int c = 0; c < 3; ++c)
+      {
+        this->UnitColour[c].push_back(float(colour[c]));
+        this->UnitColourSlope[c].push_back(float(colourSlope[c]));
+      }
+    };
+    unitAdd(tf.GetOpacityBelow(), 0.0, tf.GetColorBelow(), glm::dvec3(0.0));
+    std::size_t k = 0; // the knot piece holding the unit [x, x + 1)
+    for (std::int32_t u = 1; u < this->UnitCount; ++u)
+    {
+      const double x = first + double(u - 1);
+      while (k + 1 < pieces.size() && pieces[k + 1].Start <= x)
+      {
+        ++k;
+      }
+      const auto& p = pieces[k];
+      unitAdd(p.Opacity + p.OpacitySlope * (x - p.Start), p.OpacitySlope,
+        p.Colour + p.ColourSlope * (x - p.Start), p.ColourSlope);
+    }
+    unitAdd(pieces.back().Opacity, 0.0, pieces.back().Colour, glm::dvec3(0.0));
   }
   this->Alpha = tf.GetOpacityModel() == numerics::OpacityModel::Alpha;
   this->InverseUnit = float(1.0 / tf.GetUnitDistance());

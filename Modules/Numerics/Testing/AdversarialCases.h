@@ -144,16 +144,16 @@ inline an::TransferFunction<double> Steps()
 }
 
 // Up to `knots` random knots over [0, top] (some repeated: jumps), extinction
-// up to `peak`, random colours.
+// up to `peak`, random colours; `integral`: knots on whole scalar values.
 inline an::TransferFunction<double> Random(
-  unsigned seed, int knots, double peak, double top = 255.0)
+  unsigned seed, int knots, double peak, double top = 255.0, bool integral = false)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<double> values(static_cast<std::size_t>(knots));
   for (double& v : values)
   {
-    v = top * u(rng);
+    v = integral ? std::round(top * u(rng)) : top * u(rng);
   }
   std::sort(values.begin(), values.end());
   an::TransferFunction<double> tf;

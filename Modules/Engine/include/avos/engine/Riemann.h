@@ -62,7 +62,11 @@ struct Volume
 // The transfer function as the kernels read it: structure of arrays in
 // float, indexed by piece (0 below the first knot, i for [knot i - 1, knot i)),
 // located in constant time through a bucket grid, as
-// numerics::TransferFunction does in double.
+// numerics::TransferFunction does in double. When every knot is an integer
+// (as for 8- and 16-bit data's usual transfer functions) the pieces are
+// also laid out once per scalar unit (Unit*: the same linear functions, cut
+// at every integer), so that a piece is floor(s) - first knot + 1, found
+// without a search.
 class TransferTable
 {
 public:
@@ -74,6 +78,11 @@ public:
   std::vector<float> Colour[3], ColourSlope[3];
   std::vector<std::int32_t> Buckets; // pieces at or below each bucket's lower edge
   float BucketScale = 0.0f;
+  // Per scalar unit from UnitOrigin (the first knot) over UnitCount knots
+  // (UnitOrigin .. UnitOrigin + UnitCount - 1); UnitCount 0: not laid out.
+  float UnitOrigin = 0.0f;
+  std::int32_t UnitCount = 0;
+  std::vector<float> UnitOpacity, UnitOpacitySlope, UnitColour[3], UnitColourSlope[3];
   bool Alpha = false;          // VTK's model: opacity is alpha per UnitDistance
   float InverseUnit = 1.0f;    // 1 / UnitDistance
   float OpaqueExtinction = 40; // tau for alpha >= 1 (numerics::TransferFunction's)
