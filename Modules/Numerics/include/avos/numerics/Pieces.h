@@ -493,10 +493,6 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
   }
   const std::vector<Real>& knots = tf.GetKnots();
-  Real c[8]; // the corners of cell `loaded`
-  int loaded[3] = { 0, 0, 0 };
-  bool haveCorners = false;
-  int lastAxis = 0; // the axis of the last step
   Real t = tBegin;
   const int maximumCells = n[0] + n[1] + n[2] + 3;
   for (int visited = 0; visited < maximumCells && t < tEnd; ++visited)
@@ -506,37 +502,8 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     const Real t1 = std::min(tMax[axis], tEnd);
     if (t1 > t)
     {
-      // A step to a face neighbour keeps the four corners of the shared
-      // face and loads the other four.
-      const int moved = index[lastAxis] - loaded[lastAxis];
-      const bool neighbour = haveCorners && (moved == 1 || moved == -1) &&
-        index[(lastAxis + 1) % 3] == loaded[(lastAxis + 1) % 3] &&
-        index[(lastAxis + 2) % 3] == loaded[(lastAxis + 2) % 3];
-      if (neighbour)
-      {
-        const int bit = 1 << lastAxis;
-        for (int k = 0; k < 8; ++k)
-        {
-          // The corners on the near side take the far side's values.
-          if (((k & bit) == 0) == (moved == 1))
-          {
-            c[k] = c[k ^ bit];
-          }
-        }
-        for (int k = 0; k < 8; ++k)
-        {
-          if (((k & bit) != 0) == (moved == 1))
-          {
-            c[k] = volume.At(index[0] + (k & 1), index[1] + ((k >> 1) & 1), index[2] + (k >> 2));
-          }
-        }
-      }
-      else
-      {
-        volume.GetCorners(index[0], index[1], index[2], c);
-      }
-      haveCorners = true;
-      std::copy(index, index + 3, loaded);
+      Real c[8];
+      volume.GetCorners(index[0], index[1], index[2], c);
       Real lo = c[0], hi = c[0];
       for (int i = 1; i < 8; ++i)
       {
@@ -642,7 +609,6 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
     t = std::max(t, t1);
     index[axis] += step[axis];
-    lastAxis = axis;
     if (index[axis] < 0 || index[axis] >= n[axis])
     {
       break;

@@ -64,9 +64,6 @@ public:
     return axis == 0 ? this->Nx : (axis == 1 ? this->Ny : this->Nz);
   }
 
-  // The grid point (i, j, k).
-  Real At(int i, int j, int k) const { return Real(this->Data[i + j * this->Sy + k * this->Sz]); }
-
   // The eight corners of cell (i, j, k), x fastest: c[a + 2 b + 4 c] is the
   // grid point (i + a, j + b, k + c).
   void GetCorners(int i, int j, int k, Real c[8]) const
