@@ -410,22 +410,16 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << this->MinimumStep << " / " << this->MaximumStep << ").");
     return fail();
   }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
-    !(this->Tolerance >= an::PiecewiseMinimumTolerance<double>() && this->Tolerance <= 1.0))
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
   {
-    vtkErrorMacro(<< "The piecewise method's tolerance must be in [1e-12, 1], not "
-                  << this->Tolerance << ".");
-    return fail();
-  }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE && this->OpacityModel == VTK_OPACITY &&
-    this->Tolerance < 8e-7)
-  {
-    vtkErrorMacro(
-      << "In VTK's opacity model the piecewise method's tolerance must be at least "
-         "8e-7 (its extinction -ln(1 - alpha) is approximated within a relative eps / 8 "
-         "between extra knots), not "
-      << this->Tolerance << ".");
-    return fail();
+    const std::string error = an::ValidatePiecewiseTolerance(this->Tolerance,
+      this->OpacityModel == EXTINCTION_OPACITY ? an::OpacityModel::Extinction
+                                               : an::OpacityModel::Alpha);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Invalid tolerance " << this->Tolerance << ": " << error << ".");
+      return fail();
+    }
   }
   if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
   {

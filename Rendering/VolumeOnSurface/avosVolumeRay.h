@@ -79,10 +79,15 @@ struct VolumeRaySetup
     {
       return "the sample distance and the tolerance must be positive";
     }
-    if (method == RayIntegration::Piecewise &&
-      !(tolerance >= avos::numerics::PiecewiseMinimumTolerance<double>() && tolerance <= 1.0))
+    if (method == RayIntegration::Piecewise)
     {
-      return "the piecewise method's tolerance must be in [1e-12, 1]";
+      const std::string invalid = avos::numerics::ValidatePiecewiseTolerance(tolerance,
+        extinction ? avos::numerics::OpacityModel::Extinction
+                   : avos::numerics::OpacityModel::Alpha);
+      if (!invalid.empty())
+      {
+        return invalid;
+      }
     }
     vtkNew<vtkMatrix4x4> gridToWorld, inverse;
     this->Voxel = GridToWorld(volume, nullptr, gridToWorld);

@@ -71,6 +71,8 @@ public:
   // The most knots the alpha model's conversion may add: beyond, the
   // requested relative error is refused.
   static constexpr std::size_t MaximumKnots = std::size_t(1) << 20;
+  // The finest relative error of the alpha model's extinction it builds.
+  static constexpr Real MinimumRelativeError = Real(1e-7);
 
   // Prepares `tf` (valid and finalised) for integration. `relativeError` is
   // the largest relative error of tau allowed in the alpha model (unused in
@@ -91,7 +93,7 @@ public:
       return "the transfer function was not finalised";
     }
     const bool alpha = tf.GetOpacityModel() == OpacityModel::Alpha;
-    if (alpha && !(relativeError >= Real(1e-7) && relativeError < Real(1)))
+    if (alpha && !(relativeError >= MinimumRelativeError && relativeError < Real(1)))
     {
       return "the relative error of the alpha model's extinction must be in [1e-7, 1)";
     }

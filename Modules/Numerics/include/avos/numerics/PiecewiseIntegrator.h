@@ -90,6 +90,27 @@ constexpr Real PiecewiseMinimumTolerance()
   return Real(1e-12);
 }
 
+// Empty when the piecewise method can honour `tolerance` in `model`, else
+// why: within [1e-12, 1], and in VTK's alpha model at least 8e-7, whose
+// extinction is approximated within a relative eps / 8 (Pieces.h builds no
+// finer than PiecewiseTransferFunction::MinimumRelativeError).
+template <typename Real>
+std::string ValidatePiecewiseTolerance(Real tolerance, OpacityModel model)
+{
+  if (!(tolerance >= PiecewiseMinimumTolerance<Real>() && tolerance <= Real(1)))
+  {
+    return "the piecewise method's tolerance must be in [1e-12, 1]";
+  }
+  if (model == OpacityModel::Alpha &&
+    !(PiecewiseRelativeError(tolerance) >= PiecewiseTransferFunction<Real>::MinimumRelativeError))
+  {
+    return "in VTK's opacity model the piecewise method's tolerance must be at least 8e-7 (its "
+           "extinction -ln(1 - alpha) is approximated within a relative eps / 8 between extra "
+           "knots)";
+  }
+  return std::string();
+}
+
 // The tolerance of the exact piecewise reference (extinction model): the
 // error of a channel is below 1e-9 (TestPiecewise checks it against closed
 // forms).
@@ -283,9 +304,10 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
-  if (!(tolerance >= PiecewiseMinimumTolerance<Real>() && tolerance <= Real(1)))
+  // The alpha model's floor was checked when `tf` was built.
+  result.Error = ValidatePiecewiseTolerance(tolerance, OpacityModel::Extinction);
+  if (!result.Error.empty())
   {
-    result.Error = "the tolerance must be in [1e-12, 1]";
     return result;
   }
   if (tf.GetNumberOfPieces() == 0)
