@@ -43,6 +43,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace avos
@@ -79,9 +80,10 @@ public:
   // the extinction model, where tau is exact). Empty on success, else why.
   std::string Build(const TransferFunction<Real>& tf, Real relativeError)
   {
-    this->Knots.clear();
+    this->Locator.Clear();
     this->Pieces.clear();
     this->VisibleBefore.clear();
+    std::vector<Real> knots;
     std::string error = tf.Validate();
     if (!error.empty())
     {
@@ -106,15 +108,15 @@ public:
       const Real a1 = p.Length > Real(0) ? p.OpacitySlope : Real(0);
       if (!alpha || a1 == Real(0))
       {
-        this->Add(
-          p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, Real(0), p.Colour, p.ColourSlope);
+        this->Add(knots, p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, Real(0), p.Colour,
+          p.ColourSlope);
         continue;
       }
       // The alpha model on a sloped segment: extra knots, in alpha from the
       // low end to the high end, then laid out in s.
       const Real aEnd = a0 + a1 * p.Length;
       std::vector<Real> cuts = AlphaCuts(std::min(a0, aEnd), std::max(a0, aEnd), relativeError);
-      if (this->Knots.size() + cuts.size() > MaximumKnots)
+      if (knots.size() + cuts.size() > MaximumKnots)
       {
         return "the alpha model needs too many knots for that tolerance";
       }
@@ -139,8 +141,8 @@ public:
           B = Real(2) * (fx - Real(2) * fm + fy) / (w * w);
         }
         const Real A = (fy - fx) / w - B * w;
-        this->Add(
-          s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start), p.ColourSlope);
+        this->Add(knots, s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start),
+          p.ColourSlope);
       }
     }
     // Prefix counts of visible pieces: a piece is visible unless tau is zero
@@ -152,63 +154,29 @@ public:
       Real end = p.Tau;
       if (i + 1 < this->Pieces.size() && i > 0)
       {
-        const Real d = this->Knots[i] - p.Start;
+        const Real d = knots[i] - p.Start;
         end = p.Tau + d * (p.TauSlope + d * p.TauCurvature);
       }
       const bool visible = p.Tau > Real(0) || end > Real(0);
       this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
     }
     this->MaximumColor = tf.GetMaximumColor();
-    // Locate()'s grid: about four buckets per knot over [first, last knot],
-    // each with the number of knots at or below its lower edge.
-    const std::size_t m = this->Knots.size();
-    const Real span = this->Knots.back() - this->Knots.front();
-    const std::size_t buckets = std::min<std::size_t>(4 * m, std::size_t(1) << 16);
-    this->BucketScale = span > Real(0) ? Real(buckets) / span : Real(0);
-    this->Buckets.clear();
-    for (std::size_t b = 0; b < buckets; ++b)
-    {
-      const Real edge = this->Knots.front() + span * Real(b) / Real(buckets);
-      this->Buckets.push_back(static_cast<std::size_t>(
-        std::upper_bound(this->Knots.begin(), this->Knots.end(), edge) - this->Knots.begin()));
-    }
+    this->Locator.Build(std::move(knots));
     return std::string();
   }
 
   // The piece holding s: 0 below the first knot, i for s in
   // [Knots[i - 1], Knots[i]) (right-continuous at jumps), the last one above
-  // the last knot (std::upper_bound's answer, in constant time: the bucket's
-  // guess corrected by comparisons, exact whatever its rounding). NaN: 0
-  // (callers never classify a NaN; see PieceWalk).
-  std::size_t Locate(Real s) const
-  {
-    const std::size_t m = this->Knots.size();
-    if (!(s >= this->Knots.front()))
-    {
-      return 0;
-    }
-    if (s >= this->Knots.back())
-    {
-      return m;
-    }
-    const Real x = (s - this->Knots.front()) * this->BucketScale;
-    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
-    while (i < m && this->Knots[i] <= s)
-    {
-      ++i;
-    }
-    while (i > 0 && this->Knots[i - 1] > s)
-    {
-      --i;
-    }
-    return i;
-  }
+  // the last knot: std::upper_bound's answer (KnotLocator). NaN: 0 (callers
+  // never classify a NaN; see PieceWalk).
+  std::size_t Locate(Real s) const { return this->Locator.UpperBound(s); }
 
   // The number of knots strictly below s (std::lower_bound's answer).
   std::size_t CountBelow(Real s) const
   {
+    const std::vector<Real>& knots = this->Locator.GetKnots();
     std::size_t i = this->Locate(s);
-    while (i > 0 && this->Knots[i - 1] == s)
+    while (i > 0 && knots[i - 1] == s)
     {
       --i;
     }
@@ -217,7 +185,7 @@ public:
 
   const Piece& operator[](std::size_t i) const { return this->Pieces[i]; }
   std::size_t GetNumberOfPieces() const { return this->Pieces.size(); }
-  const std::vector<Real>& GetKnots() const { return this->Knots; }
+  const std::vector<Real>& GetKnots() const { return this->Locator.GetKnots(); }
   Real GetMaximumColor() const { return this->MaximumColor; }
 
   bool IsVisible(std::size_t i) const
@@ -233,18 +201,18 @@ public:
   }
 
 private:
-  void Add(Real s, Real tau, Real tauSlope, Real tauCurvature, const Color& colour,
-    const Color& colourSlope)
+  void Add(std::vector<Real>& knots, Real s, Real tau, Real tauSlope, Real tauCurvature,
+    const Color& colour, const Color& colourSlope)
   {
     const Piece piece{ s, tau, tauSlope, tauCurvature, colour, colourSlope };
-    if (!this->Knots.empty() && s <= this->Knots.back())
+    if (!knots.empty() && s <= knots.back())
     {
       // A cut rounded onto its neighbour: the later piece starts there and
       // replaces the empty one.
       this->Pieces.back() = piece;
       return;
     }
-    this->Knots.push_back(s);
+    knots.push_back(s);
     this->Pieces.push_back(piece);
   }
 
@@ -300,12 +268,10 @@ private:
     return cuts;
   }
 
-  std::vector<Real> Knots;
+  KnotLocator<Real> Locator; // the knots between the pieces
   std::vector<Piece> Pieces;
   std::vector<std::size_t> VisibleBefore;
   Real MaximumColor = Real(0);
-  std::vector<std::size_t> Buckets;
-  Real BucketScale = Real(0); // buckets per unit scalar
 };
 
 // s(u) = K[0] + K[1] u + K[2] u^2 + K[3] u^3.

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace avos
@@ -34,6 +35,83 @@ enum class OpacityModel
 {
   Extinction,
   Alpha
+};
+
+// The number of sorted knots at or below s (what std::upper_bound finds, 0
+// for a NaN) in constant time and with few mispredicted branches (samples
+// come in no order). Up to 16 knots it counts them without a branch; above,
+// a uniform grid of about four buckets per knot gives a first guess,
+// corrected by a few comparisons so the answer is exact whatever the
+// rounding of the bucket.
+template <typename Real>
+class KnotLocator
+{
+public:
+  // `knots` sorted, finite, at least one.
+  void Build(std::vector<Real> knots)
+  {
+    this->Knots = std::move(knots);
+    this->Buckets.clear();
+    const std::size_t n = this->Knots.size();
+    if (n <= 16)
+    {
+      return;
+    }
+    const Real span = this->Knots.back() - this->Knots.front();
+    const std::size_t count = std::min<std::size_t>(4 * n, std::size_t(1) << 16);
+    this->BucketScale = span > Real(0) ? Real(count) / span : Real(0);
+    for (std::size_t b = 0; b < count; ++b)
+    {
+      const Real edge = this->Knots.front() + span * Real(b) / Real(count);
+      this->Buckets.push_back(static_cast<std::size_t>(
+        std::upper_bound(this->Knots.begin(), this->Knots.end(), edge) - this->Knots.begin()));
+    }
+  }
+
+  std::size_t UpperBound(Real s) const
+  {
+    const std::size_t n = this->Knots.size();
+    if (n <= 16)
+    {
+      std::size_t count = 0;
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        count += this->Knots[k] <= s ? 1 : 0;
+      }
+      return count;
+    }
+    if (!(s >= this->Knots.front()))
+    {
+      return 0;
+    }
+    if (s >= this->Knots.back())
+    {
+      return n;
+    }
+    const Real x = (s - this->Knots.front()) * this->BucketScale;
+    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
+    while (i < n && this->Knots[i] <= s)
+    {
+      ++i;
+    }
+    while (i > 0 && this->Knots[i - 1] > s)
+    {
+      --i;
+    }
+    return i;
+  }
+
+  const std::vector<Real>& GetKnots() const { return this->Knots; }
+  void Clear()
+  {
+    this->Knots.clear();
+    this->Buckets.clear();
+  }
+
+private:
+  std::vector<Real> Knots;
+  std::vector<std::size_t> Buckets; // knots at or below each bucket's lower edge
+  Real BucketScale = Real(0);       // buckets per unit scalar
 };
 
 template <typename Real>
@@ -235,7 +313,7 @@ public:
     // Jumps at the knots with indices in [first above lo, first at or above hi).
     const std::size_t first = this->Locate(lo) + 1; // NoPiece + 1 == 0
     std::size_t end = this->Locate(hi) + 1;
-    if (end > 0 && this->Starts[end - 1] == hi)
+    if (end > 0 && this->Starts.GetKnots()[end - 1] == hi)
     {
       --end;
     }
@@ -250,7 +328,8 @@ public:
       return HasValueIn(this->ColorValues, lo, hi) || HasValueIn(this->OpacityValues, lo, hi);
     }
     const std::size_t next = this->Locate(lo) + 1; // the first knot above lo
-    return next < this->Starts.size() && this->Starts[next] < hi;
+    const std::vector<Real>& starts = this->Starts.GetKnots();
+    return next < starts.size() && starts[next] < hi;
   }
 
   // Sorted scalar values where C or tau has a kink or a jump.
@@ -267,49 +346,16 @@ private:
   static constexpr std::size_t NoPiece = static_cast<std::size_t>(-1);
 
   // The index of the last knot (piece start) at or below s, NoPiece below the
-  // first one or for a NaN: what std::upper_bound finds, in constant time and
-  // with few mispredicted branches (samples come in no order). Up to 16 knots
-  // it counts them without a branch; above, a uniform grid of buckets over
-  // the knots gives a first guess, corrected by a few comparisons so the
-  // answer is exact whatever the rounding of the bucket.
+  // first one or for a NaN.
   std::size_t Locate(Real s) const
   {
-    const std::size_t n = this->Starts.size();
-    if (n <= 16)
-    {
-      std::size_t count = 0;
-      for (std::size_t k = 0; k < n; ++k)
-      {
-        count += this->Starts[k] <= s ? 1 : 0;
-      }
-      return count - 1; // NoPiece when 0
-    }
-    if (!(s >= this->Starts.front()))
-    {
-      return NoPiece;
-    }
-    if (s >= this->Starts.back())
-    {
-      return n - 1;
-    }
-    const Real x = (s - this->Starts.front()) * this->BucketScale;
-    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
-    while (this->Starts[i + 1] <= s)
-    {
-      ++i;
-    }
-    while (this->Starts[i] > s)
-    {
-      --i;
-    }
-    return i;
+    return this->Starts.UpperBound(s) - 1; // NoPiece when 0
   }
 
   void BuildPieces()
   {
     this->Pieces.clear();
-    this->Starts.clear();
-    this->Buckets.clear();
+    this->Starts.Clear();
     this->JumpsBefore.clear();
     auto usable = [](const std::vector<Real>& v)
     {
@@ -346,7 +392,6 @@ private:
         p.ColourSlope = Slope(this->ColorValues, this->Colors, p.Start);
       }
       this->Pieces.push_back(p);
-      this->Starts.push_back(p.Start);
     }
     // A jump is a knot value given twice in either function.
     this->JumpsBefore.assign(1, 0);
@@ -356,16 +401,7 @@ private:
         std::count(this->OpacityValues.begin(), this->OpacityValues.end(), v) > 1;
       this->JumpsBefore.push_back(this->JumpsBefore.back() + (jump ? 1 : 0));
     }
-    // About four buckets per piece; a single knot needs none.
-    const Real span = starts.back() - starts.front();
-    const std::size_t count = std::min<std::size_t>(4 * starts.size(), 1 << 16);
-    this->BucketScale = span > Real(0) ? Real(count) / span : Real(0);
-    for (std::size_t b = 0; b < count; ++b)
-    {
-      const Real edge = starts.front() + span * Real(b) / Real(count);
-      const auto upper = std::upper_bound(starts.begin(), starts.end(), edge);
-      this->Buckets.push_back(static_cast<std::size_t>(upper - starts.begin()) - 1);
-    }
+    this->Starts.Build(std::move(starts));
   }
 
   static bool HasValueIn(const std::vector<Real>& values, Real lo, Real hi)
@@ -426,10 +462,7 @@ private:
   OpacityModel Model = OpacityModel::Extinction;
   Real UnitDistance = Real(1);
   std::vector<Piece> Pieces;
-  std::vector<Real> Starts;
-  // Locate()'s grid: the last knot at or below each bucket's lower edge.
-  std::vector<std::size_t> Buckets;
-  Real BucketScale = Real(0); // buckets per unit scalar
+  KnotLocator<Real> Starts; // the pieces' starts
   // JumpsBefore[k]: jumps among the first k knots.
   std::vector<std::size_t> JumpsBefore;
 };
