@@ -218,30 +218,37 @@ struct Ray
   double Length;
 };
 
-// Ray i of a case: through two uniform random points of the box, clipped to it.
-inline Ray MakeRay(const Case& c, unsigned i)
+// A ray through two uniform random points of the box of `dimensions` at
+// least `span` apart, clipped to the box.
+inline Ray RandomRay(const int dimensions[3], std::mt19937& rng, double span)
 {
-  std::mt19937 rng(i * 2654435761u + 99u);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (;;)
   {
     glm::dvec3 a, b;
     for (int k = 0; k < 3; ++k)
     {
-      a[k] = u(rng) * (c.Dimensions[k] - 1);
-      b[k] = u(rng) * (c.Dimensions[k] - 1);
+      a[k] = u(rng) * (dimensions[k] - 1);
+      b[k] = u(rng) * (dimensions[k] - 1);
     }
-    if (glm::length(b - a) < 1.0)
+    if (glm::length(b - a) < span)
     {
       continue;
     }
     const glm::dvec3 d = glm::normalize(b - a);
     double t0 = -1e9, t1 = 1e9;
-    if (an::ClipToGrid(a, d, c.Dimensions, t0, t1))
+    if (an::ClipToGrid(a, d, dimensions, t0, t1))
     {
       return { a + t0 * d, d, t1 - t0 };
     }
   }
+}
+
+// Ray i of a case.
+inline Ray MakeRay(const Case& c, unsigned i)
+{
+  std::mt19937 rng(i * 2654435761u + 99u);
+  return RandomRay(c.Dimensions, rng, 1.0);
 }
 
 enum class Method

@@ -51,26 +51,7 @@ an::PiecewiseTransferFunction<double> Prepare(const an::TransferFunction<double>
 // A random ray through the box of `dims`: origin, unit direction, length.
 adversarial::Ray RandomRay(const int dims[3], std::mt19937& rng)
 {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (;;)
-  {
-    glm::dvec3 a, b;
-    for (int k = 0; k < 3; ++k)
-    {
-      a[k] = u(rng) * (dims[k] - 1);
-      b[k] = u(rng) * (dims[k] - 1);
-    }
-    if (glm::length(b - a) < 0.5)
-    {
-      continue;
-    }
-    const glm::dvec3 d = glm::normalize(b - a);
-    double t0 = -1e9, t1 = 1e9;
-    if (an::ClipToGrid(a, d, dims, t0, t1))
-    {
-      return { a + t0 * d, d, t1 - t0 };
-    }
-  }
+  return adversarial::RandomRay(dims, rng, 0.5);
 }
 
 constexpr double ReferenceTolerance = an::PiecewiseReferenceTolerance<double>();
