@@ -161,8 +161,8 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   const auto dd = unit
     ? hn::Sub(s, start)
     : hn::Min(hn::Max(hn::Sub(s, field(tf.Start)), hn::Zero(d)), field(tf.Length));
-  const auto opacity = unit ? hn::MulAdd(field(tf.UnitOpacitySlope), dd, field(tf.UnitOpacity))
-                            : hn::MulAdd(field(tf.OpacitySlope), dd, field(tf.Opacity));
+  const LinearPieces& values = unit ? tf.Units : tf.Pieces;
+  const auto opacity = hn::MulAdd(field(values.OpacitySlope), dd, field(values.Opacity));
   auto tau = opacity;
   if (tf.Alpha)
   {
@@ -179,9 +179,7 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   float* out[3] = { r, g, b };
   for (int c = 0; c < 3; ++c)
   {
-    hn::Store(unit ? hn::MulAdd(field(tf.UnitColourSlope[c]), dd, field(tf.UnitColour[c]))
-                   : hn::MulAdd(field(tf.ColourSlope[c]), dd, field(tf.Colour[c])),
-      d, out[c]);
+    hn::Store(hn::MulAdd(field(values.ColourSlope[c]), dd, field(values.Colour[c])), d, out[c]);
   }
 }
 
@@ -343,6 +341,38 @@ std::string Validate(const Volume& volume)
   return volume.Data ? std::string() : "the volume has no data";
 }
 
+void LinearPieces::Clear()
+{
+  for (std::vector<float>* v :
+    { &this->Opacity, &this->OpacitySlope, &this->Colour[0], &this->Colour[1], &this->Colour[2],
+      &this->ColourSlope[0], &this->ColourSlope[1], &this->ColourSlope[2] })
+  {
+    v->clear();
+  }
+}
+
+void LinearPieces::Add(
+  double opacity, double opacitySlope, const glm::dvec3& colour, const glm::dvec3& colourSlope)
+{
+  this->Opacity.push_back(float(opacity));
+  this->OpacitySlope.push_back(float(opacitySlope));
+  for (int c = 0; c < 3; ++c)
+  {
+    this->Colour[c].push_back(float(colour[c]));
+    this->ColourSlope[c].push_back(float(colourSlope[c]));
+  }
+}
+
+void LinearPieces::Pad(std::size_t size)
+{
+  for (std::vector<float>* v :
+    { &this->Opacity, &this->OpacitySlope, &this->Colour[0], &this->Colour[1], &this->Colour[2],
+      &this->ColourSlope[0], &this->ColourSlope[1], &this->ColourSlope[2] })
+  {
+    v->resize(std::max(v->size(), size), 0.0f);
+  }
+}
+
 std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
 {
   const std::string error = tf.Validate();
@@ -355,44 +385,27 @@ std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
   {
     return "the transfer function was not finalised";
   }
+  const glm::dvec3 flat(0.0), below = tf.GetColorBelow();
   this->Knots.clear();
   this->Start.clear();
   this->Length.clear();
-  this->Opacity.clear();
-  this->OpacitySlope.clear();
-  for (int c = 0; c < 3; ++c)
-  {
-    this->Colour[c].clear();
-    this->ColourSlope[c].clear();
-  }
-  auto add = [this](double start, double length, double opacity, double opacitySlope,
-               const glm::dvec3& colour, const glm::dvec3& colourSlope)
-  {
-    this->Start.push_back(float(start));
-    this->Length.push_back(float(length));
-    this->Opacity.push_back(float(opacity));
-    this->OpacitySlope.push_back(float(opacitySlope));
-    for (int c = 0; c < 3; ++c)
-    {
-      this->Colour[c].push_back(float(colour[c]));
-      this->ColourSlope[c].push_back(float(colourSlope[c]));
-    }
-  };
+  this->Pieces.Clear();
   // Piece 0: below the first knot, the first values held.
-  add(pieces.front().Start, 0.0, tf.GetOpacityBelow(), 0.0, tf.GetColorBelow(), glm::dvec3(0.0));
+  this->Start.push_back(float(pieces.front().Start));
+  this->Length.push_back(0.0f);
+  this->Pieces.Add(tf.GetOpacityBelow(), 0.0, below, flat);
   for (const auto& p : pieces)
   {
     this->Knots.push_back(float(p.Start));
-    add(p.Start, p.Length, p.Opacity, p.OpacitySlope, p.Colour, p.ColourSlope);
+    this->Start.push_back(float(p.Start));
+    this->Length.push_back(float(p.Length));
+    this->Pieces.Add(p.Opacity, p.OpacitySlope, p.Colour, p.ColourSlope);
   }
   // Padded to the widest vector, so that a small table loads whole.
   const std::size_t padded = std::max<std::size_t>(this->Start.size(), 16);
-  for (std::vector<float>* v : { &this->Start, &this->Length, &this->Opacity, &this->OpacitySlope,
-         &this->Colour[0], &this->Colour[1], &this->Colour[2], &this->ColourSlope[0],
-         &this->ColourSlope[1], &this->ColourSlope[2] })
-  {
-    v->resize(padded, 0.0f);
-  }
+  this->Start.resize(padded, 0.0f);
+  this->Length.resize(padded, 0.0f);
+  this->Pieces.Pad(padded);
   // About four buckets per knot: the number of knots at or below each
   // bucket's lower edge (in float, as the kernels compare).
   const std::size_t m = this->Knots.size();
@@ -408,12 +421,7 @@ std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
   }
   // Per scalar unit, when every knot is an integer (at most 65536 units).
   this->UnitCount = 0;
-  for (std::vector<float>* v : { &this->UnitOpacity, &this->UnitOpacitySlope, &this->UnitColour[0],
-         &this->UnitColour[1], &this->UnitColour[2], &this->UnitColourSlope[0],
-         &this->UnitColourSlope[1], &this->UnitColourSlope[2] })
-  {
-    v->clear();
-  }
+  this->Units.Clear();
   const double first = pieces.front().Start, last = pieces.back().Start;
   const bool integral = std::all_of(pieces.begin(), pieces.end(),
     [](const numerics::TransferFunction<double>::Piece& p)
@@ -422,18 +430,7 @@ std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
   {
     this->UnitOrigin = static_cast<float>(first);
     this->UnitCount = static_cast<std::int32_t>(last - first) + 1;
-    auto unitAdd = [this](double opacity, double opacitySlope, const glm::dvec3& colour,
-                     const glm::dvec3& colourSlope)
-    {
-      this->UnitOpacity.push_back(float(opacity));
-      this->UnitOpacitySlope.push_back(float(opacitySlope));
-      for (int c = 0; c < 3; ++c)
-      {
-        this->UnitColour[c].push_back(float(colour[c]));
-        this->UnitColourSlope[c].push_back(float(colourSlope[c]));
-      }
-    };
-    unitAdd(tf.GetOpacityBelow(), 0.0, tf.GetColorBelow(), glm::dvec3(0.0));
+    this->Units.Add(tf.GetOpacityBelow(), 0.0, below, flat);
     std::size_t k = 0; // the knot piece holding the unit [x, x + 1)
     for (std::int32_t u = 1; u < this->UnitCount; ++u)
     {
@@ -443,10 +440,11 @@ std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)
         ++k;
       }
       const auto& p = pieces[k];
-      unitAdd(p.Opacity + p.OpacitySlope * (x - p.Start), p.OpacitySlope,
-        p.Colour + p.ColourSlope * (x - p.Start), p.ColourSlope);
+      const glm::dvec3 colour = p.Colour + p.ColourSlope * (x - p.Start);
+      this->Units.Add(
+        p.Opacity + p.OpacitySlope * (x - p.Start), p.OpacitySlope, colour, p.ColourSlope);
     }
-    unitAdd(pieces.back().Opacity, 0.0, pieces.back().Colour, glm::dvec3(0.0));
+    this->Units.Add(pieces.back().Opacity, 0.0, pieces.back().Colour, flat);
   }
   this->Alpha = tf.GetOpacityModel() == numerics::OpacityModel::Alpha;
   this->InverseUnit = float(1.0 / tf.GetUnitDistance());

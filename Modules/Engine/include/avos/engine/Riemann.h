@@ -59,6 +59,19 @@ struct Volume
   int Dimensions[3] = { 0, 0, 0 };
 };
 
+// Opacity and colour, each linear on a piece (the value at the piece's start
+// and the slope), in float, one entry per piece.
+struct LinearPieces
+{
+  std::vector<float> Opacity, OpacitySlope, Colour[3], ColourSlope[3];
+
+  void Clear();
+  void Add(
+    double opacity, double opacitySlope, const glm::dvec3& colour, const glm::dvec3& colourSlope);
+  // Zero-filled to `size` entries at least.
+  void Pad(std::size_t size);
+};
+
 // The transfer function as the kernels read it: structure of arrays in
 // float, indexed by piece (0 below the first knot, i for [knot i - 1, knot i)),
 // located in constant time through a bucket grid, as
@@ -74,15 +87,15 @@ public:
   std::string Build(const numerics::TransferFunction<double>& tf);
 
   std::vector<float> Knots;
-  std::vector<float> Start, Length, Opacity, OpacitySlope;
-  std::vector<float> Colour[3], ColourSlope[3];
+  std::vector<float> Start, Length; // of the pieces
+  LinearPieces Pieces;
   std::vector<std::int32_t> Buckets; // pieces at or below each bucket's lower edge
   float BucketScale = 0.0f;
   // Per scalar unit from UnitOrigin (the first knot) over UnitCount knots
   // (UnitOrigin .. UnitOrigin + UnitCount - 1); UnitCount 0: not laid out.
   float UnitOrigin = 0.0f;
   std::int32_t UnitCount = 0;
-  std::vector<float> UnitOpacity, UnitOpacitySlope, UnitColour[3], UnitColourSlope[3];
+  LinearPieces Units;
   bool Alpha = false;          // VTK's model: opacity is alpha per UnitDistance
   float InverseUnit = 1.0f;    // 1 / UnitDistance
   float OpaqueExtinction = 40; // tau for alpha >= 1 (numerics::TransferFunction's)
