@@ -74,6 +74,9 @@ public:
   static constexpr std::size_t MaximumKnots = std::size_t(1) << 20;
   // The finest relative error of the alpha model's extinction it builds.
   static constexpr Real MinimumRelativeError = Real(1e-7);
+  // -ln(1 - alpha) from which the alpha model's extra knots stop and the
+  // rest, up to the opaque value, is one chord.
+  static constexpr Real FlatDepth = Real(36);
 
   // Prepares `tf` (valid and finalised) for integration. `relativeError` is
   // the largest relative error of tau allowed in the alpha model (unused in
@@ -124,6 +127,7 @@ public:
       {
         std::reverse(cuts.begin(), cuts.end());
       }
+      const Real flat = FlatDepth / tf.GetUnitDistance();
       for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
       {
         // In alpha, u = alpha - x over the cut [x, y] (w = y - x < 0 where
@@ -133,7 +137,6 @@ public:
         const Real x = cuts[k], y = cuts[k + 1], w = y - x;
         const Real s = k == 0 ? p.Start : p.Start + (x - a0) / a1;
         const Real fx = tf.ToExtinction(x), fy = tf.ToExtinction(y);
-        const Real flat = Real(36) / tf.GetUnitDistance();
         Real B = Real(0);
         if (fx < flat && fy < flat && std::max(x, y) < Real(1))
         {
@@ -146,7 +149,9 @@ public:
       }
     }
     // Prefix counts of visible pieces: a piece is visible unless tau is zero
-    // at both of its ends (tau is linear on it).
+    // at both of its ends (tau is linear on it, or in the alpha model a
+    // quadratic through non-negative values that is zero at both ends only
+    // where alpha is).
     this->VisibleBefore.assign(1, 0);
     for (std::size_t i = 0; i < this->Pieces.size(); ++i)
     {
@@ -230,12 +235,11 @@ private:
   {
     std::vector<Real> cuts{ lo };
     const Real opaque = Real(1);
-    const Real flat = Real(36); // f(x) beyond which the rest is one chord
     Real x = lo;
     while (x < hi && cuts.size() < MaximumKnots)
     {
       const Real fx = x < opaque ? -std::log(Real(1) - x) : Real(40);
-      if (x >= opaque || fx >= flat)
+      if (x >= opaque || fx >= FlatDepth)
       {
         break;
       }

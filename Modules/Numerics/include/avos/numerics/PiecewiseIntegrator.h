@@ -178,18 +178,6 @@ void ShiftPolynomial(Real* c, int degree, Real v0)
   }
 }
 
-// J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
-// shifted depth thetas(w) = theta(v + w) - theta(v) has
-// A = sum_j |thetas_j| h^j <= 1. There y = e^{-thetas} is the power series
-// c_0 = 1, (k + 1) c_k+1 = -sum_j j thetas_j c_k+1-j (from y' = -thetas' y),
-// dominated term by term by the series C_k of e^{A(w)} (the same recursion on
-// |thetas_j|), whose sum at h is e^A. So truncating y after N terms errs by
-// at most e^A - sum_{k <= N} C_k h^k on [0, h], and the integral of q' times
-// the truncated series, exact, by h max|q'| times that. Terms are added until
-// the sub-interval's share `allowed(E(v), E(v + h), h)` is met (within 40
-// terms whenever A <= 1, since the tail is below e / 41!); a sub-interval
-// where A > 1 is halved first, and then grows back by doubling. Accepted and
-// halved sub-intervals are counted as steps in `stats`.
 // 1 / k for k = 1 .. 47: the series' divisions become products.
 template <typename Real>
 struct Reciprocals
@@ -205,6 +193,18 @@ struct Reciprocals
   }
 };
 
+// J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
+// shifted depth thetas(w) = theta(v + w) - theta(v) has
+// A = sum_j |thetas_j| h^j <= 1. There y = e^{-thetas} is the power series
+// c_0 = 1, (k + 1) c_k+1 = -sum_j j thetas_j c_k+1-j (from y' = -thetas' y),
+// dominated term by term by the series C_k of e^{A(w)} (the same recursion on
+// |thetas_j|), whose sum at h is e^A. So truncating y after N terms errs by
+// at most e^A - sum_{k <= N} C_k h^k on [0, h], and the integral of q' times
+// the truncated series, exact, by h max|q'| times that. Terms are added until
+// the sub-interval's share `allowed(E(v), E(v + h), h)` is met (within 40
+// terms whenever A <= 1, since the tail is below e / 41!); a sub-interval
+// where A > 1 is halved first, and then grows back by doubling. Accepted and
+// halved sub-intervals are counted as steps in `stats`.
 template <typename Real, typename Allowed>
 Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
   const Allowed& allowed, RayStatistics<Real>& stats)
