@@ -27,8 +27,7 @@ if (NOT TARGET VTK::vtkpython)
   endif ()
 endif ()
 
-vtk_module_python_default_destination(AVOS_PYTHON_DESTINATION)
-set(AVOS_PYTHONPATH "${CMAKE_BINARY_DIR}/${AVOS_PYTHON_DESTINATION}")
+set(AVOS_PYTHONPATH "${CMAKE_BINARY_DIR}/${AVOS_PYTHON_SITE_PACKAGES}")
 
 # avos_add_python_tests(<test.py[,NO_VALID]>...): one test per script, labelled `python`,
 # run by vtkpython with the build's `avos` package importable. The scripts use

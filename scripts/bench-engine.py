@@ -14,7 +14,7 @@ and the % of pixels whose worst channel is more than 1e-3 off the reference
 
 Writes out/bench-engine/results.json, report.md (the tables and the log-log
 slopes) and time-vs-error.png (VTK's charts), and prints the report.
-  PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
+  PYTHONPATH=build/python xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
     /usr/bin/python3 scripts/bench-engine.py [--quick]
 """
 

@@ -18,7 +18,7 @@ isosurfaces have the size of the paper's, about 10^5 vertices), 800x600 and
 
 Writes report.md, results.csv and images/ into the output folder:
 
-    PYTHONPATH=build/lib/python3/dist-packages xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" /usr/bin/python3 \\
+    PYTHONPATH=build/python xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" /usr/bin/python3 \\
         scripts/bench-vos.py [--datasets Foot,Bonsai,Engine] [--frames 12] [--output out/bench-vos]
 """
 

@@ -26,8 +26,7 @@ if [[ -f "$data/volumes/bonsai_zfp.vti" ]]; then
   "${headless[@]}" "$build/bin/avos-render" "${scene[@]}" --method vtk-fixed-point --step 0.5 \
     --output "$out/vtk-fixed-point.png" --report "$out/vtk-fixed-point.json" "$@"
 else
-  python_dir="$(find "$build/lib" -type d -name avos -path '*-packages/avos' | head -n 1)"
-  PYTHONPATH="$(dirname "$python_dir")" "${headless[@]}" \
+  PYTHONPATH="$build/python" "${headless[@]}" \
     /usr/bin/python3 "$root/Examples/Python/render_volume.py" --output "$out"
 fi
 echo "Wrote $(ls "$out" | tr '\n' ' ')to $out"
