@@ -6,6 +6,8 @@
 //               [--step H] [--h0 H] [--hmin H] [--hmax H] [--size WxH] [--azimuth DEG]
 //               [--elevation DEG] [--zoom Z] [--frames N] [--threads N]
 //               [--output FILE.png|FILE.exr] [--report FILE.json] [--compare REF.exr]
+//               [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]
+//               [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]
 //
 // INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, a volvis .raw name (Name.1.XxYxZ.raw)
 // or a DICOM folder. Runs in an off-screen window (under Xvfb on a headless
@@ -17,6 +19,7 @@
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPlane.h"
 #include "vtkPointData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
@@ -45,7 +48,8 @@ const char* Usage =
   "         [--opacity extinction|vtk] [--tolerance E] [--step H] [--h0 H] [--hmin H]\n"
   "         [--hmax H] [--size WxH] [--azimuth DEG] [--elevation DEG] [--zoom Z]\n"
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
-  "         [--compare REF.exr]\n"
+  "         [--compare REF.exr] [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]\n"
+  "         [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
@@ -53,7 +57,11 @@ const char* Usage =
   "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
   "--compare: per RGBA channel, the percentage of pixels whose error against REF.exr (a\n"
   "float image of the same size, e.g. --method reference) exceeds 0.01, 0.005, 0.001, over\n"
-  "the pixels where either image is not transparent; in the report too.\n";
+  "the pixels where either image is not transparent; in the report too.\n"
+  "--clip: a clipping plane (normal, then a point on it, in the volume's world\n"
+  "coordinates) keeping the side the normal points to; repeat for more planes.\n"
+  "--crop: VTK's cropping region planes (the volume's coordinates); --crop-mode: which\n"
+  "of the 27 regions are kept (default subvolume: the box between the planes).\n";
 
 struct Options
 {
@@ -70,7 +78,29 @@ struct Options
   std::string Output;
   std::string Report;
   std::string Compare;
+  std::vector<std::vector<double>> Clip; // normal and origin of each plane
+  std::vector<double> Crop;              // empty: no cropping
+  int CropFlags = VTK_CROP_SUBVOLUME;
 };
+
+// "a,b,c" -> numbers; false unless exactly `count` finite numbers.
+bool ParseList(const std::string& text, std::size_t count, std::vector<double>& values)
+{
+  values.clear();
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ','))
+  {
+    std::istringstream number(item);
+    double v = 0.0;
+    if (!(number >> v) || !number.eof() || !std::isfinite(v))
+    {
+      return false;
+    }
+    values.push_back(v);
+  }
+  return values.size() == count;
+}
 
 bool ParseNumber(const std::string& text, double& value)
 {
@@ -158,6 +188,34 @@ std::string Parse(int argc, char* argv[], Options& o)
     else if (arg == "--compare")
     {
       o.Compare = value;
+    }
+    else if (arg == "--clip")
+    {
+      std::vector<double> plane;
+      if (!ParseList(value, 6, plane) || (plane[0] == 0.0 && plane[1] == 0.0 && plane[2] == 0.0))
+      {
+        return "--clip needs NX,NY,NZ,OX,OY,OZ (a non-zero normal, a point)";
+      }
+      o.Clip.push_back(plane);
+    }
+    else if (arg == "--crop")
+    {
+      if (!ParseList(value, 6, o.Crop) || o.Crop[0] > o.Crop[1] || o.Crop[2] > o.Crop[3] ||
+        o.Crop[4] > o.Crop[5])
+      {
+        return "--crop needs X0,X1,Y0,Y1,Z0,Z1, each minimum at most its maximum";
+      }
+    }
+    else if (arg == "--crop-mode")
+    {
+      const std::map<std::string, int> modes = { { "subvolume", VTK_CROP_SUBVOLUME },
+        { "fence", VTK_CROP_FENCE }, { "inverted-fence", VTK_CROP_INVERTED_FENCE },
+        { "cross", VTK_CROP_CROSS }, { "inverted-cross", VTK_CROP_INVERTED_CROSS } };
+      if (!modes.count(value))
+      {
+        return "--crop-mode is subvolume, fence, inverted-fence, cross or inverted-cross";
+      }
+      o.CropFlags = modes.at(value);
     }
     else
     {
@@ -286,6 +344,19 @@ int main(int argc, char* argv[])
 
   vtkSmartPointer<vtkVolumeMapper> mapper = app::MakeMapper(o.Settings, voxel);
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
+  for (const std::vector<double>& p : o.Clip)
+  {
+    vtkNew<vtkPlane> plane;
+    plane->SetNormal(p[0], p[1], p[2]);
+    plane->SetOrigin(p[3], p[4], p[5]);
+    mapper->AddClippingPlane(plane);
+  }
+  if (!o.Crop.empty())
+  {
+    mapper->SetCropping(1);
+    mapper->SetCroppingRegionPlanes(o.Crop.data());
+    mapper->SetCroppingRegionFlags(o.CropFlags);
+  }
   app::RenderSession session(reader, property, o.Width, o.Height, o.Azimuth, o.Elevation, o.Zoom);
   vtkNew<ProgressPrinter> progress;
   const std::vector<double> times = session.Render(mapper, o.Frames, progress);

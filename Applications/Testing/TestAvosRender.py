@@ -186,6 +186,43 @@ for args, what in [([riemann, png], "differ in shape"), ([riemann, os.path.join(
     bad = subprocess.run([COMPARE, *args], capture_output=True, text=True)
     check(bad.returncode != 0 and what in bad.stderr, "avos-compare refuses %r: %s" % (args, bad.stderr))
 
+# Clipping planes and cropping (--clip, --crop, --crop-mode): the mean alpha
+# (oiiotool --printstats) of the kept part is below the whole's, nothing
+# kept is transparent, a crop box around the whole volume changes nothing,
+# and VTK's fixed-point mapper given the same plane keeps the same half.
+def mean_alpha(*args):
+    path = os.path.join(SCRATCH, "clip.exr")
+    if os.path.exists(path):
+        os.remove(path)
+    code, out = run(VOLUME, "--tf", TF, "--size", "64x48", "--azimuth", "30", "--output", path,
+                    *args)
+    check(code == 0, "%s renders: %s" % (args, out))
+    stats = subprocess.run(["oiiotool", path, "--printstats"], capture_output=True, text=True)
+    for line in stats.stdout.splitlines():
+        if "Stats Avg:" in line:
+            return float(line.split()[5])
+    return float("nan")
+
+
+whole = mean_alpha("--method", "piecewise")
+half = mean_alpha("--method", "piecewise", "--clip", "1,0,0,32,0,0")
+other = mean_alpha("--method", "piecewise", "--clip", "-1,0,0,32,0,0")
+none = mean_alpha("--method", "piecewise", "--clip", "1,0,0,1000,0,0")
+box = mean_alpha("--method", "piecewise", "--crop", "-1,100,-1,100,-1,100")
+inner = mean_alpha("--method", "piecewise", "--crop", "20,40,20,40,20,40")
+fence = mean_alpha("--method", "piecewise", "--crop", "20,40,20,40,20,40", "--crop-mode", "fence")
+fixed = mean_alpha("--method", "vtk-fixed-point", "--opacity", "vtk", "--clip", "1,0,0,32,0,0")
+fixed_whole = mean_alpha("--method", "vtk-fixed-point", "--opacity", "vtk")
+print("mean alpha: whole %.5f, x >= 32 %.5f, x <= 32 %.5f, nothing %.5f, box %.5f, "
+      "sub-volume %.5f, fence %.5f; fixed point x >= 32 %.5f of %.5f"
+      % (whole, half, other, none, box, inner, fence, fixed, fixed_whole))
+check(0 < half < whole and 0 < other < whole, "a clipping plane keeps a part")
+check(none == 0.0, "a plane keeping nothing leaves the image transparent")
+check(box == whole, "cropping around the whole volume changes nothing")
+check(0 < inner < fence < whole, "sub-volume < fence < whole")
+check(abs(fixed / fixed_whole - half / whole) < 0.1,
+      "VTK's fixed-point mapper keeps the same side of the plane")
+
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
 check(code == 0 and "rays" in out, "default transfer function: " + out)
@@ -200,7 +237,11 @@ for args, message in [((), "no input"),
                        "transfer function"),
                       ((VOLUME, "--tolerance", "-1"), "tolerance"),
                       ((VOLUME, "--hmin", "5", "--hmax", "1"), "minimum step"),
-                      ((VOLUME, "--output", os.path.join(SCRATCH, "x.bmp")), ".png or .exr")]:
+                      ((VOLUME, "--output", os.path.join(SCRATCH, "x.bmp")), ".png or .exr"),
+                      ((VOLUME, "--clip", "0,0,0,1,1,1"), "--clip"),
+                      ((VOLUME, "--clip", "1,0,0,1"), "--clip"),
+                      ((VOLUME, "--crop", "5,1,0,1,0,1"), "--crop"),
+                      ((VOLUME, "--crop-mode", "diagonal"), "--crop-mode")]:
     code, out = run(*args)
     check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
 

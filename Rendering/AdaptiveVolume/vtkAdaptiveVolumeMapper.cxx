@@ -5,8 +5,11 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
@@ -24,6 +27,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/Riemann.h"
+#include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
@@ -43,6 +47,13 @@ namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
 using Segments = std::vector<an::Interval<double>>;
 
+// A thread's scratch lists for one ray: the visible segments, the part the
+// clipping planes and cropping keep, and their intersection.
+struct RayBuffers
+{
+  Segments Visible, Kept, Clipped;
+};
+
 constexpr int TileSize = 16;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
@@ -59,6 +70,7 @@ struct FrameGeometry
   int Height = 0;
   int Rect[4] = { 0, 0, 0, 0 }; // pixels cast: [x0, x1) x [y0, y1)
   std::vector<float> Depth;     // the depth buffer, Width x Height
+  an::ClipRegion<double> Clip;  // clipping planes and cropping, in grid coordinates
 };
 
 struct ThreadStatistics
@@ -132,13 +144,79 @@ struct Method
   const avos::engine::TransferTable* EngineTable = nullptr;
 };
 
+// The Riemann sum over the kept parts of a ray, each its own ray from its
+// entry (as VTK's mappers start a clipped ray at the plane), front to back;
+// `segments` are the visible ones of [0, D].
+template <typename Storage>
+void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const TransferFunction& tf,
+  const Method& method, const glm::dvec3& origin, const glm::dvec3& direction,
+  const Segments& segments, RayBuffers& buffers, an::RayResult<double>& result,
+  std::vector<an::StepRecord<double>>* steps)
+{
+  // The sums' own termination test, on the whole ray's transmittance.
+  const double stop = method.TerminationBound / std::max(1.0, tf.GetMaximumColor());
+  glm::dvec3 color(0.0);
+  double T = 1.0;
+  for (const an::Interval<double>& part : buffers.Kept)
+  {
+    if (T <= stop)
+    {
+      break;
+    }
+    buffers.Clipped.clear();
+    for (const an::Interval<double>& v : segments)
+    {
+      const double a = std::max(v.Begin, part.Begin), b = std::min(v.End, part.End);
+      if (a < b)
+      {
+        buffers.Clipped.push_back({ a - part.Begin, b - part.Begin });
+      }
+    }
+    if (buffers.Clipped.empty())
+    {
+      continue;
+    }
+    const glm::dvec3 start = origin + part.Begin * direction;
+    const double D = part.End - part.Begin;
+    // What is left of the bound after the transmittance spent before.
+    const double bound = method.TerminationBound > 0.0 ? method.TerminationBound / T : 0.0;
+    const std::size_t recorded = steps ? steps->size() : 0;
+    glm::dvec4 rgba;
+    if (method.EngineVolume && !steps)
+    {
+      avos::engine::RayOutput out;
+      avos::engine::CastRiemann(*method.EngineVolume, *method.EngineTable, &start.x, &direction.x,
+        D, method.SampleDistance, buffers.Clipped.data(), buffers.Clipped.size(), bound, out);
+      rgba = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+      result.Statistics.Samples += out.Samples;
+    }
+    else
+    {
+      const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ volume, start,
+        direction };
+      const an::RayResult<double> r = an::IntegrateRiemann(field, tf, D, method.SampleDistance,
+        an::RiemannForm::Exponential, buffers.Clipped.data(), buffers.Clipped.size(), bound, steps);
+      rgba = r.RGBA;
+      result.Statistics.Samples += r.Statistics.Samples;
+    }
+    for (std::size_t i = recorded; steps && i < steps->size(); ++i)
+    {
+      (*steps)[i].Start += part.Begin;
+    }
+    color += T * glm::dvec3(rgba);
+    T *= 1.0 - rgba.a;
+  }
+  result.RGBA = glm::dvec4(color, 1.0 - T);
+}
+
 // Integrates the pixel's ray through the visible blocks (all of the box
-// without a map); `steps`, when given, receives the accepted outer steps.
-// False when the ray misses the volume's box.
+// without a map) that the clipping planes and cropping keep; `steps`, when
+// given, receives the accepted outer steps. False when the ray misses the
+// volume's box.
 template <typename Storage>
 bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
   const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method, int x,
-  int y, Segments& segments, an::RayResult<double>& result,
+  int y, RayBuffers& buffers, an::RayResult<double>& result,
   std::vector<an::StepRecord<double>>* steps = nullptr)
 {
   glm::dvec3 origin, direction;
@@ -147,6 +225,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   {
     return false;
   }
+  Segments& segments = buffers.Visible;
   if (map)
   {
     map->Segments(origin, direction, D, SegmentPad, segments);
@@ -154,6 +233,19 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   else
   {
     segments.assign(1, { 0.0, D });
+  }
+  if (!g.Clip.IsEmpty() && !segments.empty())
+  {
+    g.Clip.Kept(origin, direction, D, buffers.Kept);
+    if (method.Kind == vtkAdaptiveVolumeMapper::RIEMANN)
+    {
+      ClippedRiemann(volume, tf, method, origin, direction, segments, buffers, result, steps);
+      return true;
+    }
+    // The other methods integrate exactly the segments they are given (tau
+    // taken as 0 elsewhere), within their tolerance over the whole ray.
+    an::ClipRegion<double>::Intersect(segments, buffers.Kept, buffers.Clipped);
+    std::swap(segments, buffers.Clipped);
   }
   if (segments.empty())
   {
@@ -202,7 +294,7 @@ class RayCaster
 public:
   RayCaster(const Storage* data, const FrameGeometry& geometry, const TransferFunction& tf,
     const an::EmptySpaceMap<double>* map, const Method& method, float* image,
-    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<Segments>& segments)
+    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<RayBuffers>& buffers)
     : Volume(data, geometry.Dimensions)
     , Geometry(geometry)
     , TF(tf)
@@ -210,7 +302,7 @@ public:
     , Settings(method)
     , Image(image)
     , Statistics(statistics)
-    , SegmentBuffers(segments)
+    , Buffers(buffers)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
   }
@@ -219,7 +311,7 @@ public:
   void operator()(vtkIdType begin, vtkIdType end)
   {
     ThreadStatistics& stats = this->Statistics.Local();
-    Segments& segments = this->SegmentBuffers.Local();
+    RayBuffers& buffers = this->Buffers.Local();
     const int* rect = this->Geometry.Rect;
     for (vtkIdType tile = begin; tile < end; ++tile)
     {
@@ -229,7 +321,7 @@ public:
       {
         for (int x = x0; x < std::min(x0 + TileSize, rect[1]); ++x)
         {
-          this->Cast(x, y, stats, segments);
+          this->Cast(x, y, stats, buffers);
         }
       }
     }
@@ -241,11 +333,11 @@ public:
   }
 
 private:
-  void Cast(int x, int y, ThreadStatistics& stats, Segments& segments)
+  void Cast(int x, int y, ThreadStatistics& stats, RayBuffers& buffers)
   {
     an::RayResult<double> result;
-    if (!IntegratePixel(this->Volume, this->Geometry, this->TF, this->Map, this->Settings, x, y,
-          segments, result))
+    if (!IntegratePixel(
+          this->Volume, this->Geometry, this->TF, this->Map, this->Settings, x, y, buffers, result))
     {
       return;
     }
@@ -269,7 +361,7 @@ private:
   const Method& Settings;
   float* Image;
   vtkSMPThreadLocal<ThreadStatistics>& Statistics;
-  vtkSMPThreadLocal<Segments>& SegmentBuffers;
+  vtkSMPThreadLocal<RayBuffers>& Buffers;
   int TilesX = 0;
 };
 
@@ -321,7 +413,6 @@ public:
   vtkNew<vtkImageData> Image;
   std::vector<std::uint16_t> Display;
   vtkSmartPointer<vtkRayCastImageDisplayHelper> DisplayHelper;
-  bool WarnedShading = false;
 };
 
 vtkStandardNewMacro(vtkAdaptiveVolumeMapper);
@@ -497,6 +588,64 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return fail();
   }
 
+  // Clipping planes (world) and cropping (the volume's coordinates, as VTK's
+  // mappers: origin and spacing) -> grid coordinates.
+  an::ClipRegion<double> clip;
+  if (this->ClippingPlanes)
+  {
+    const double* m = gridToWorld->GetData();
+    vtkCollectionSimpleIterator it;
+    this->ClippingPlanes->InitTraversal(it);
+    while (vtkPlane* plane = this->ClippingPlanes->GetNextPlane(it))
+    {
+      if (plane->GetTransform())
+      {
+        vtkErrorMacro(<< "Clipping planes with a transform are not supported.");
+        return fail();
+      }
+      double n[3], o[3];
+      plane->GetNormal(n);
+      plane->GetOrigin(o);
+      // n . (M x + c - o) >= 0 with M, c the grid -> world matrix's parts.
+      glm::dvec3 normal(0.0);
+      double offset = 0.0;
+      for (int i = 0; i < 3; ++i)
+      {
+        for (int j = 0; j < 3; ++j)
+        {
+          normal[j] += n[i] * m[4 * i + j];
+        }
+        offset += n[i] * (m[4 * i + 3] - o[i]);
+      }
+      clip.AddPlane(normal, offset);
+    }
+  }
+  if (this->Cropping)
+  {
+    vtkMatrix3x3* orientation = input->GetDirectionMatrix();
+    if (!orientation->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 || spacing[2] < 0.0)
+    {
+      vtkErrorMacro(<< "Cropping needs an input with positive spacing and no direction matrix "
+                       "(its region planes are in the volume's axis-aligned coordinates).");
+      return fail();
+    }
+    const double* origin = input->GetOrigin();
+    const int* extent = input->GetExtent();
+    double planes[6];
+    for (int c = 0; c < 6; ++c)
+    {
+      const int a = c / 2;
+      planes[c] = (this->CroppingRegionPlanes[c] - origin[a]) / spacing[a] - extent[2 * a];
+    }
+    clip.SetCropping(planes, this->CroppingRegionFlags);
+  }
+  const std::string unusable = clip.Validate();
+  if (!unusable.empty())
+  {
+    vtkErrorMacro(<< "Unusable clipping or cropping: " << unusable << ".");
+    return fail();
+  }
+
   // Data -> empty-space ranges, when the scalars changed.
   if (!internals.Ranges.Update(scalars, dims))
   {
@@ -512,10 +661,11 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // Property -> transfer function and block visibility.
   vtkVolumeProperty* property = vol->GetProperty();
-  if (property->GetShade(0) && !internals.WarnedShading)
+  if (property->GetShade(0))
   {
-    vtkWarningMacro(<< "Shading is not supported and is ignored (emission-absorption model).");
-    internals.WarnedShading = true;
+    vtkErrorMacro(<< "Shading is not supported (emission-absorption model): turn the property's "
+                     "Shade off.");
+    return fail();
   }
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || voxel != internals.Voxel ||
@@ -643,7 +793,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   if (internals.HaveImage && projectionValues == internals.Projection &&
     volumeValues == internals.VolumeMatrix && viewport == internals.Viewport &&
-    g.Depth == internals.LastDepth && this->GetMTime() == internals.FrameMapperTime &&
+    g.Depth == internals.LastDepth && clip == g.Clip &&
+    this->GetMTime() == internals.FrameMapperTime &&
     internals.ClassifyTime.GetMTime() == internals.FrameClassifyTime &&
     internals.Ranges.GetTime() == internals.FrameRangesTime)
   {
@@ -655,6 +806,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkMatrix4x4::Invert(projection, ndcToWorld);
     std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, g.NDCToWorld);
     std::copy(worldToGrid->GetData(), worldToGrid->GetData() + 16, g.WorldToGrid);
+    g.Clip = clip;
 
     // Cast only the box's footprint on the screen (all of it when a corner
     // is behind the eye).
@@ -668,14 +820,14 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       const glm::dvec4 corner((c & 1) * (dims[0] - 1.0), ((c >> 1) & 1) * (dims[1] - 1.0),
         ((c >> 2) & 1) * (dims[2] - 1.0), 1.0);
       const glm::dvec4 world = Multiply(gridToWorld->GetData(), corner);
-      const glm::dvec4 clip = Multiply(projection->GetData(), world);
-      if (!(clip.w > 0.0))
+      const glm::dvec4 onScreen = Multiply(projection->GetData(), world);
+      if (!(onScreen.w > 0.0))
       {
         footprint = false;
         break;
       }
-      const double px = (clip.x / clip.w + 1.0) * 0.5 * width;
-      const double py = (clip.y / clip.w + 1.0) * 0.5 * height;
+      const double px = (onScreen.x / onScreen.w + 1.0) * 0.5 * width;
+      const double py = (onScreen.y / onScreen.w + 1.0) * 0.5 * height;
       g.Rect[0] = std::min(g.Rect[0], static_cast<int>(std::max(std::floor(px), -1.0)));
       g.Rect[1] = std::max(g.Rect[1], static_cast<int>(std::min(std::ceil(px) + 1, width + 1.0)));
       g.Rect[2] = std::min(g.Rect[2], static_cast<int>(std::max(std::floor(py), -1.0)));
@@ -715,14 +867,14 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
 
     vtkSMPThreadLocal<ThreadStatistics> statistics;
-    vtkSMPThreadLocal<Segments> segments;
+    vtkSMPThreadLocal<RayBuffers> buffers;
     const an::EmptySpaceMap<double>* map =
       this->EmptySpaceSkipping ? &internals.Ranges.GetMap() : nullptr;
     bool aborted = false;
     auto cast = [&](auto* data)
     {
       using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      RayCaster<Storage> caster(data, g, internals.TF, map, method, image, statistics, segments);
+      RayCaster<Storage> caster(data, g, internals.TF, map, method, image, statistics, buffers);
       // Bands of tile rows: progress and abort checks between them.
       const int tileRows = (g.Rect[3] - g.Rect[2] + TileSize - 1) / TileSize;
       const int bands = std::max(1, std::min(tileRows, 16));
@@ -836,7 +988,7 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
   }
   std::vector<an::StepRecord<double>> records;
   an::RayResult<double> result;
-  Segments segments;
+  RayBuffers buffers;
   bool hit = false;
   auto trace = [&](auto* data)
   {
@@ -844,7 +996,7 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
     const an::TrilinearVolume<double, Storage> volume(data, g.Dimensions);
     hit = IntegratePixel(volume, g, internals.TF,
       internals.FrameSkipping ? &internals.Ranges.GetMap() : nullptr, internals.FrameMethod, x, y,
-      segments, result, &records);
+      buffers, result, &records);
   };
   vtkDataArray* scalars = internals.FrameScalars;
   switch (scalars->GetDataType())

@@ -32,10 +32,18 @@
  * (the last image is drawn again). Opaque geometry is honoured through the
  * depth buffer: rays stop at it.
  *
+ * Clipping planes (the mapper's, in world coordinates; each keeps the side
+ * its normal points to) and cropping (VTK's 27 regions and flags, planes in
+ * the volume's coordinates) cut every ray exactly where it crosses them: the
+ * error-controlled methods integrate exactly the kept part, within their
+ * tolerance; the Riemann sum starts a new ray at each kept part's entry, as
+ * VTK's mappers do at a clipping plane.
+ *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
- * supported (an error or a warning says so): multi-component or cell
- * scalars, blend modes other than composite, shading, cropping and clipping
- * planes.
+ * supported (an error says so and nothing is drawn): multi-component or cell
+ * scalars, blend modes other than composite, shading, clipping planes with
+ * a transform, cropping of inputs with a direction matrix or negative
+ * spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper
  */

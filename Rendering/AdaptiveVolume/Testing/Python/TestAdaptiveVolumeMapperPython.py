@@ -3,14 +3,16 @@ The float image and the statistics reach Python; the adaptive image agrees
 with the reference within the tolerance on every pixel; a bad tolerance is
 reported and renders nothing. The piecewise method agrees with the
 reference within its tolerance, with fewer samples than the paper's coupled
-rule at the same tolerance, and reports its cells and pieces."""
+rule at the same tolerance, and reports its cells and pieces. Clipping
+planes and cropping cut the image, and moving a plane recasts it; shading
+is refused, not ignored."""
 
 import avos
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
                                          vtkVolume, vtkVolumeProperty)
-from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction, vtkPlane
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
 
@@ -34,6 +36,7 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.mapper = avos.vtkAdaptiveVolumeMapper()
         self.mapper.SetInputConnection(source.GetOutputPort())
         self.mapper.SetOpacityModelToExtinction()
+        self.prop = prop
         volume = vtkVolume()
         volume.SetMapper(self.mapper)
         volume.SetProperty(prop)
@@ -83,6 +86,40 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.assertGreater(self.mapper.GetMeanPiecesPerRay(), 1.0)
         self.assertGreater(self.mapper.GetMeanCellsPerRay(), 1.0)
         self.assertLess(self.mapper.GetMeanSamplesPerRay(), coupled_samples)
+
+    def test_clipping_and_cropping(self):
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        whole = self.render()
+        plane = vtkPlane()
+        plane.SetOrigin(0.0, 0.0, 0.0)
+        plane.SetNormal(1.0, 0.0, 0.0)
+        self.mapper.AddClippingPlane(plane)
+        half = self.render()
+        self.assertLess(sum(half[3::4]), 0.8 * sum(whole[3::4]))
+        self.assertGreater(sum(half[3::4]), 0.2 * sum(whole[3::4]))
+        # A moved plane (the mapper itself unchanged) is seen: a new image.
+        plane.SetOrigin(0.5, 0.0, 0.0)
+        less = self.render()
+        self.assertFalse(self.mapper.GetLastRenderReused())
+        self.assertLess(sum(less[3::4]), sum(half[3::4]))
+        self.mapper.RemoveAllClippingPlanes()
+        self.mapper.SetCropping(1)
+        self.mapper.SetCroppingRegionPlanes(-0.5, 0.5, -0.5, 0.5, -0.5, 0.5)
+        self.mapper.SetCroppingRegionFlagsToSubVolume()
+        inner = self.render()
+        self.mapper.SetCroppingRegionFlagsToInvertedCross()
+        outer = self.render()
+        self.assertGreater(sum(inner[3::4]), 0.0)
+        self.assertLess(sum(inner[3::4]), sum(whole[3::4]))
+        self.assertLess(sum(outer[3::4]), sum(whole[3::4]))
+
+    def test_shading_is_refused(self):
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.prop.ShadeOn()
+        self.assertEqual(self.render(), [])
+        self.assertEqual(len(errors), 1)
 
     def test_bad_tolerance_is_reported(self):
         errors = []
