@@ -420,18 +420,14 @@ int QuadraticRoots(Real a, Real b, Real c, Real end, Real roots[2])
 }
 } // namespace detail
 
-// Walks the ray origin + t direction (grid coordinates, t in the caller's
-// units) over [tBegin, tEnd], inside the volume's box, and calls
-// visit(const RayPiece&) for every smooth piece whose transfer-function piece
-// is visible, front to back; visit returns false to stop the walk. Cells
-// whose corners the transfer function maps to tau = 0 are passed over
-// without building their cubic, and so are cells with a non-finite corner
-// (the interpolant is undefined there: transparent, as a NaN sample is).
-// `cells` counts the cells whose cubic was built. Returns false when stopped.
+// The cells the ray origin + t direction (grid coordinates, t in the
+// caller's units) crosses over [tBegin, tEnd], inside the volume's box, in
+// order (Amanatides and Woo's traversal): visit(const int cell[3], t0, t1)
+// for each, with the part [t0, t1] of the ray inside it; visit returns false
+// to stop. At most nx + ny + nz + 3 iterations. Returns false when stopped.
 template <typename Real, typename VolumeT, typename Visit>
-bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
-  const glm::vec<3, Real>& direction, Real tBegin, Real tEnd,
-  const PiecewiseTransferFunction<Real>& tf, long& cells, Visit&& visit)
+bool CellWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, Real tBegin, Real tEnd, Visit&& visit)
 {
   if (!(tBegin < tEnd))
   {
@@ -464,7 +460,6 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
       tDelta[a] = tMax[a];
     }
   }
-  const std::vector<Real>& knots = tf.GetKnots();
   Real t = tBegin;
   const int maximumCells = n[0] + n[1] + n[2] + 3;
   for (int visited = 0; visited < maximumCells && t < tEnd; ++visited)
@@ -472,112 +467,9 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     const int axis =
       tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
     const Real t1 = std::min(tMax[axis], tEnd);
-    if (t1 > t)
+    if (t1 > t && !visit(static_cast<const int*>(index), t, t1))
     {
-      Real c[8];
-      volume.GetCorners(index[0], index[1], index[2], c);
-      Real lo = c[0], hi = c[0];
-      for (int i = 1; i < 8; ++i)
-      {
-        lo = std::min(lo, c[i]);
-        hi = std::max(hi, c[i]);
-      }
-      // The sum is finite only when every corner is (a NaN escapes min/max).
-      const bool finite = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
-      // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
-      // inside, the whole cell lies in one transfer-function piece (a corner
-      // value on a knot is met at isolated points only): no crossing to find,
-      // and nothing to do at all when that piece is transparent.
-      const std::size_t first = finite ? tf.Locate(lo) : 0;
-      const bool crossings = finite && first < knots.size() && knots[first] < hi;
-      if (finite && (crossings ? tf.AnyVisible(lo, hi) : tf.IsVisible(first)))
-      {
-        ++cells;
-        // The cubic in u = t - t (cell entry), from the trilinear form
-        // f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz in the cell's frame.
-        const glm::vec<3, Real> e = origin + t * direction -
-          glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2]));
-        const Real A = c[0], B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
-        const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
-        const Real G = c[6] - c[4] - c[2] + c[0];
-        const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
-        const Real x = e.x, y = e.y, z = e.z;
-        const Real dx = direction.x, dy = direction.y, dz = direction.z;
-        Cubic<Real> s;
-        s.K[0] = A + B * x + C * y + D * z + E * x * y + F * x * z + G * y * z + H * x * y * z;
-        s.K[1] = dx * (B + E * y + F * z + H * y * z) + dy * (C + E * x + G * z + H * x * z) +
-          dz * (D + F * x + G * y + H * x * y);
-        s.K[2] = dx * dy * (E + H * z) + dx * dz * (F + H * y) + dy * dz * (G + H * x);
-        s.K[3] = H * dx * dy * dz;
-        const Real length = t1 - t;
-        auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
-        {
-          RayPiece<Real> rp;
-          rp.Begin = t + u;
-          rp.Length = next - u;
-          rp.Q = s.Shifted(u);
-          rp.Q.K[0] -= tf[piece].Start;
-          rp.TF = piece;
-          rp.Monotone = monotone;
-          return visit(rp);
-        };
-        if (!crossings)
-        {
-          // One piece for the cell; whether s is monotone on it only matters
-          // to the integrator's cheapest bound, so it is tested, not split.
-          if (!emit(Real(0), length, first, detail::Monotone(s, length)))
-          {
-            return false;
-          }
-        }
-        else
-        {
-          // Monotone stretches: split at the extrema inside the cell.
-          Real bounds[4];
-          int count = 0;
-          bounds[count++] = Real(0);
-          Real roots[2];
-          const int r =
-            detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
-          for (int i = 0; i < r; ++i)
-          {
-            bounds[count++] = roots[i];
-          }
-          bounds[count++] = length;
-          for (int b = 0; b + 1 < count; ++b)
-          {
-            const Real ua = bounds[b], ub = bounds[b + 1];
-            const Real sa = s(ua), sb = s(ub);
-            const bool rising = sb >= sa;
-            const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
-            // Knots strictly inside (slo, shi), in the order the ray meets them.
-            const std::size_t k0 = tf.Locate(slo);
-            const std::size_t k1 = tf.CountBelow(shi);
-            const std::size_t inside = k1 > k0 ? k1 - k0 : 0;
-            Real u = ua;
-            for (std::size_t j = 0; j <= inside; ++j)
-            {
-              Real next = ub;
-              if (j < inside)
-              {
-                const Real value = knots[rising ? k0 + j : k1 - 1 - j];
-                next = std::min(std::max(detail::Crossing(s, value, ua, ub), u), ub);
-              }
-              if (next > u)
-              {
-                // The transfer-function piece from the scalar in the middle:
-                // robust where a crossing rounds onto a knot.
-                const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
-                if (tf.IsVisible(piece) && !emit(u, next, piece, true))
-                {
-                  return false;
-                }
-              }
-              u = std::max(u, next);
-            }
-          }
-        }
-      }
+      return false;
     }
     t = std::max(t, t1);
     index[axis] += step[axis];
@@ -588,6 +480,133 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     tMax[axis] += tDelta[axis];
   }
   return true;
+}
+
+// The trilinear interpolant of a cell's corners c (x fastest) along the ray
+// from e (the entry point, in the cell's frame [0, 1]^3) in direction d: a
+// cubic in the distance u from e, from the form
+// f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz.
+template <typename Real>
+Cubic<Real> CellCubic(const Real c[8], const glm::vec<3, Real>& e, const glm::vec<3, Real>& d)
+{
+  const Real A = c[0], B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
+  const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
+  const Real G = c[6] - c[4] - c[2] + c[0];
+  const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
+  const Real x = e.x, y = e.y, z = e.z;
+  Cubic<Real> s;
+  s.K[0] = A + B * x + C * y + D * z + E * x * y + F * x * z + G * y * z + H * x * y * z;
+  s.K[1] = d.x * (B + E * y + F * z + H * y * z) + d.y * (C + E * x + G * z + H * x * z) +
+    d.z * (D + F * x + G * y + H * x * y);
+  s.K[2] = d.x * d.y * (E + H * z) + d.x * d.z * (F + H * y) + d.y * d.z * (G + H * x);
+  s.K[3] = H * d.x * d.y * d.z;
+  return s;
+}
+
+// Walks the ray origin + t direction over [tBegin, tEnd] (CellWalk) and calls
+// visit(const RayPiece&) for every smooth piece whose transfer-function piece
+// is visible, front to back; visit returns false to stop the walk. Cells
+// whose corners the transfer function maps to tau = 0 are passed over
+// without building their cubic, and so are cells with a non-finite corner
+// (the interpolant is undefined there: transparent, as a NaN sample is).
+// `cells` counts the cells whose cubic was built. Returns false when stopped.
+template <typename Real, typename VolumeT, typename Visit>
+bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, Real tBegin, Real tEnd,
+  const PiecewiseTransferFunction<Real>& tf, long& cells, Visit&& visit)
+{
+  const std::vector<Real>& knots = tf.GetKnots();
+  auto cell = [&](const int index[3], Real t, Real t1) -> bool
+  {
+    Real c[8];
+    volume.GetCorners(index[0], index[1], index[2], c);
+    Real lo = c[0], hi = c[0];
+    for (int i = 1; i < 8; ++i)
+    {
+      lo = std::min(lo, c[i]);
+      hi = std::max(hi, c[i]);
+    }
+    // The sum is finite only when every corner is (a NaN escapes min/max).
+    const bool finite = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
+    // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
+    // inside, the whole cell lies in one transfer-function piece (a corner
+    // value on a knot is met at isolated points only): no crossing to find,
+    // and nothing to do at all when that piece is transparent.
+    const std::size_t first = finite ? tf.Locate(lo) : 0;
+    const bool crossings = finite && first < knots.size() && knots[first] < hi;
+    if (!finite || !(crossings ? tf.AnyVisible(lo, hi) : tf.IsVisible(first)))
+    {
+      return true;
+    }
+    ++cells;
+    // The cubic in u = t - t (cell entry).
+    const Cubic<Real> s = CellCubic(c,
+      origin + t * direction - glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2])),
+      direction);
+    const Real length = t1 - t;
+    auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
+    {
+      RayPiece<Real> rp;
+      rp.Begin = t + u;
+      rp.Length = next - u;
+      rp.Q = s.Shifted(u);
+      rp.Q.K[0] -= tf[piece].Start;
+      rp.TF = piece;
+      rp.Monotone = monotone;
+      return visit(rp);
+    };
+    if (!crossings)
+    {
+      // One piece for the cell; whether s is monotone on it only matters
+      // to the integrator's cheapest bound, so it is tested, not split.
+      return emit(Real(0), length, first, detail::Monotone(s, length));
+    }
+    // Monotone stretches: split at the extrema inside the cell.
+    Real bounds[4];
+    int count = 0;
+    bounds[count++] = Real(0);
+    Real roots[2];
+    const int r = detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
+    for (int i = 0; i < r; ++i)
+    {
+      bounds[count++] = roots[i];
+    }
+    bounds[count++] = length;
+    for (int b = 0; b + 1 < count; ++b)
+    {
+      const Real ua = bounds[b], ub = bounds[b + 1];
+      const Real sa = s(ua), sb = s(ub);
+      const bool rising = sb >= sa;
+      const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
+      // Knots strictly inside (slo, shi), in the order the ray meets them.
+      const std::size_t k0 = tf.Locate(slo);
+      const std::size_t k1 = tf.CountBelow(shi);
+      const std::size_t inside = k1 > k0 ? k1 - k0 : 0;
+      Real u = ua;
+      for (std::size_t j = 0; j <= inside; ++j)
+      {
+        Real next = ub;
+        if (j < inside)
+        {
+          const Real value = knots[rising ? k0 + j : k1 - 1 - j];
+          next = std::min(std::max(detail::Crossing(s, value, ua, ub), u), ub);
+        }
+        if (next > u)
+        {
+          // The transfer-function piece from the scalar in the middle:
+          // robust where a crossing rounds onto a knot.
+          const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
+          if (tf.IsVisible(piece) && !emit(u, next, piece, true))
+          {
+            return false;
+          }
+        }
+        u = std::max(u, next);
+      }
+    }
+    return true;
+  };
+  return CellWalk(volume, origin, direction, tBegin, tEnd, cell);
 }
 
 } // namespace numerics
