@@ -8,6 +8,7 @@
 //               [--output FILE.png|FILE.exr] [--report FILE.json] [--compare REF.exr]
 //               [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]
 //               [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]
+//               [--blend composite|maximum|minimum]
 //
 // INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, a volvis .raw name (Name.1.XxYxZ.raw)
 // or a DICOM folder. Runs in an off-screen window (under Xvfb on a headless
@@ -50,6 +51,7 @@ const char* Usage =
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
   "         [--compare REF.exr] [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]\n"
   "         [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]\n"
+  "         [--blend composite|maximum|minimum]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
@@ -61,7 +63,9 @@ const char* Usage =
   "--clip: a clipping plane (normal, then a point on it, in the volume's world\n"
   "coordinates) keeping the side the normal points to; repeat for more planes.\n"
   "--crop: VTK's cropping region planes (the volume's coordinates); --crop-mode: which\n"
-  "of the 27 regions are kept (default subvolume: the box between the planes).\n";
+  "of the 27 regions are kept (default subvolume: the box between the planes).\n"
+  "--blend maximum|minimum: the intensity projections (exact in avos's methods: the\n"
+  "extremum of the trilinear field along the ray, not of samples).\n";
 
 struct Options
 {
@@ -81,6 +85,7 @@ struct Options
   std::vector<std::vector<double>> Clip; // normal and origin of each plane
   std::vector<double> Crop;              // empty: no cropping
   int CropFlags = VTK_CROP_SUBVOLUME;
+  int Blend = vtkVolumeMapper::COMPOSITE_BLEND;
 };
 
 // "a,b,c" -> numbers; false unless exactly `count` finite numbers.
@@ -205,6 +210,17 @@ std::string Parse(int argc, char* argv[], Options& o)
       {
         return "--crop needs X0,X1,Y0,Y1,Z0,Z1, each minimum at most its maximum";
       }
+    }
+    else if (arg == "--blend")
+    {
+      const std::map<std::string, int> modes = { { "composite", vtkVolumeMapper::COMPOSITE_BLEND },
+        { "maximum", vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND },
+        { "minimum", vtkVolumeMapper::MINIMUM_INTENSITY_BLEND } };
+      if (!modes.count(value))
+      {
+        return "--blend is composite, maximum or minimum";
+      }
+      o.Blend = modes.at(value);
     }
     else if (arg == "--crop-mode")
     {
@@ -344,6 +360,7 @@ int main(int argc, char* argv[])
 
   vtkSmartPointer<vtkVolumeMapper> mapper = app::MakeMapper(o.Settings, voxel);
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
+  mapper->SetBlendMode(o.Blend);
   for (const std::vector<double>& p : o.Clip)
   {
     vtkNew<vtkPlane> plane;

@@ -223,6 +223,15 @@ check(0 < inner < fence < whole, "sub-volume < fence < whole")
 check(abs(fixed / fixed_whole - half / whole) < 0.1,
       "VTK's fixed-point mapper keeps the same side of the plane")
 
+# Intensity projections (--blend): exact here, sampled by VTK's fixed-point
+# mapper, whose maximum can only fall short (up to its scalar rounding).
+mip = mean_alpha("--method", "piecewise", "--blend", "maximum")
+minip = mean_alpha("--method", "piecewise", "--blend", "minimum")
+fixed_mip = mean_alpha("--method", "vtk-fixed-point", "--blend", "maximum")
+print("mean alpha: maximum %.5f (fixed point %.5f), minimum %.5f" % (mip, fixed_mip, minip))
+check(mip > 0 and 0 <= minip < mip, "a maximum projection shows, the minimum below it")
+check(abs(fixed_mip - mip) < 0.05 * mip, "the fixed-point maximum agrees within 5 %")
+
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
 check(code == 0 and "rays" in out, "default transfer function: " + out)
@@ -241,7 +250,8 @@ for args, message in [((), "no input"),
                       ((VOLUME, "--clip", "0,0,0,1,1,1"), "--clip"),
                       ((VOLUME, "--clip", "1,0,0,1"), "--clip"),
                       ((VOLUME, "--crop", "5,1,0,1,0,1"), "--crop"),
-                      ((VOLUME, "--crop-mode", "diagonal"), "--crop-mode")]:
+                      ((VOLUME, "--crop-mode", "diagonal"), "--crop-mode"),
+                      ((VOLUME, "--blend", "average"), "--blend")]:
     code, out = run(*args)
     check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
 

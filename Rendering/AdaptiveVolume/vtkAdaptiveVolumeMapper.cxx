@@ -29,6 +29,7 @@
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/Extremum.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/TransferFunction.h"
@@ -131,6 +132,7 @@ bool PixelRay(
 struct Method
 {
   int Kind = vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED;
+  int Blend = vtkVolumeMapper::COMPOSITE_BLEND; // or the maximum / minimum intensity
   an::AdaptiveSettings<double> Adaptive;
   double SampleDistance = 0.5;
   double TerminationBound = 0.0;
@@ -226,7 +228,8 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     return false;
   }
   Segments& segments = buffers.Visible;
-  if (map)
+  const bool projection = method.Blend != vtkVolumeMapper::COMPOSITE_BLEND;
+  if (map && !projection)
   {
     map->Segments(origin, direction, D, SegmentPad, segments);
   }
@@ -237,7 +240,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   if (!g.Clip.IsEmpty() && !segments.empty())
   {
     g.Clip.Kept(origin, direction, D, buffers.Kept);
-    if (method.Kind == vtkAdaptiveVolumeMapper::RIEMANN)
+    if (method.Kind == vtkAdaptiveVolumeMapper::RIEMANN && !projection)
     {
       ClippedRiemann(volume, tf, method, origin, direction, segments, buffers, result, steps);
       return true;
@@ -249,6 +252,21 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   }
   if (segments.empty())
   {
+    return true;
+  }
+  if (projection)
+  {
+    // The exact extremum of the ray's scalar, shown as VTK's mappers show a
+    // projection: its colour times the opacity function's value there.
+    const an::RayExtremum<double> e = an::ExtremumAlongRay(volume, origin, direction,
+      segments.data(), segments.size(), method.Blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND);
+    if (e.Found)
+    {
+      const double alpha = std::min(std::max(tf.GetOpacityValue(e.Value), 0.0), 1.0);
+      result.RGBA = glm::dvec4(tf.GetColor(e.Value) * alpha, alpha);
+    }
+    result.Statistics.Cells = e.Cells;
+    result.Statistics.Samples = e.Cells;
     return true;
   }
   const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ volume, origin,
@@ -518,9 +536,12 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << ".");
     return fail();
   }
-  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
+    this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND)
   {
-    vtkErrorMacro(<< "Only the composite blend mode is supported.");
+    vtkErrorMacro(<< "Blend mode " << this->BlendMode
+                  << " is not supported: composite, maximum and minimum intensity are.");
     return fail();
   }
 
@@ -856,6 +877,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
     Method method;
     method.Kind = this->IntegrationMethod;
+    method.Blend = this->BlendMode;
     method.Adaptive = adaptive;
     // Trilinear values never leave the data's range.
     method.Adaptive.FieldMinimum = scalars->GetRange(0)[0];

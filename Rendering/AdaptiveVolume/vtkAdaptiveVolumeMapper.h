@@ -39,10 +39,17 @@
  * tolerance; the Riemann sum starts a new ray at each kept part's entry, as
  * VTK's mappers do at a clipping plane.
  *
+ * Blend modes: composite (the integral above), and the maximum and minimum
+ * intensity projections, exact: the extremum of the trilinear field along
+ * the ray (a cubic in each cell, so at a cell face or a root of its
+ * derivative; VTK's mappers take the extremum of samples and miss peaks
+ * between them), shown as VTK shows a projection: the colour there times the
+ * opacity function's value there (clamped to [0, 1]), that value as alpha.
+ *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
  * supported (an error says so and nothing is drawn): multi-component or cell
- * scalars, blend modes other than composite, shading, clipping planes with
- * a transform, cropping of inputs with a direction matrix or negative
+ * scalars, the average and additive blend modes, shading, clipping planes
+ * with a transform, cropping of inputs with a direction matrix or negative
  * spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper

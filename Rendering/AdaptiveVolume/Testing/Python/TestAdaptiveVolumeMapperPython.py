@@ -113,6 +113,20 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.assertLess(sum(inner[3::4]), sum(whole[3::4]))
         self.assertLess(sum(outer[3::4]), sum(whole[3::4]))
 
+    def test_maximum_intensity_projection(self):
+        # The opacity function reaches 0.4 at the field's top (1): the
+        # brightest pixel's alpha, exact along its ray, cannot exceed it.
+        self.mapper.SetBlendModeToMaximumIntensity()
+        mip = self.render()
+        self.assertLessEqual(max(mip[3::4]), 0.4 + 1e-6)
+        self.assertGreater(max(mip[3::4]), 0.3)
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.mapper.SetBlendModeToAverageIntensity()
+        self.assertEqual(self.render(), [])
+        self.assertEqual(len(errors), 1)
+
     def test_shading_is_refused(self):
         errors = []
         self.mapper.AddObserver(vtkCommand.ErrorEvent,

@@ -249,6 +249,17 @@ public:
     return Interpolate(this->ColorValues, this->Colors, s);
   }
 
+  // The opacity function's own value at s (tau in the extinction model,
+  // alpha in VTK's): what the intensity projections show.
+  Real GetOpacityValue(Real s) const
+  {
+    if (std::isnan(s))
+    {
+      return Real(0);
+    }
+    return Interpolate(this->OpacityValues, this->Opacities, s);
+  }
+
   Real GetExtinction(Real s) const
   {
     if (std::isnan(s))
