@@ -49,10 +49,12 @@ using TransferFunction = an::TransferFunction<double>;
 using Segments = std::vector<an::Interval<double>>;
 
 // A thread's scratch lists for one ray: the visible segments, the part the
-// clipping planes and cropping keep, and their intersection.
+// clipping planes and cropping keep, and their intersection; the blocks'
+// parts of the ray for the intensity projections.
 struct RayBuffers
 {
   Segments Visible, Kept, Clipped;
+  std::vector<an::EmptySpaceMap<double>::Span> Spans;
 };
 
 constexpr int TileSize = 16;
@@ -258,8 +260,38 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   {
     // The exact extremum of the ray's scalar, shown as VTK's mappers show a
     // projection: its colour times the opacity function's value there.
-    const an::RayExtremum<double> e = an::ExtremumAlongRay(volume, origin, direction,
-      segments.data(), segments.size(), method.Blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND);
+    const bool maximum = method.Blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
+    an::RayExtremum<double> e;
+    if (map)
+    {
+      // Blocks best first (by their range); once a block's range cannot beat
+      // the extremum found, neither can the rest.
+      auto& spans = buffers.Spans;
+      map->Spans(origin, direction, D, SegmentPad, spans);
+      std::sort(spans.begin(), spans.end(),
+        [maximum](const auto& a, const auto& b)
+        { return maximum ? a.Maximum > b.Maximum : a.Minimum < b.Minimum; });
+      for (const auto& span : spans)
+      {
+        if (e.Found && (maximum ? span.Maximum <= e.Value : span.Minimum >= e.Value))
+        {
+          break;
+        }
+        for (const an::Interval<double>& part : segments)
+        {
+          const an::Interval<double> piece{ std::max(part.Begin, span.Begin),
+            std::min(part.End, span.End) };
+          if (piece.Begin < piece.End)
+          {
+            an::ExtremumAlongRay(volume, origin, direction, &piece, 1, maximum, e);
+          }
+        }
+      }
+    }
+    else
+    {
+      an::ExtremumAlongRay(volume, origin, direction, segments.data(), segments.size(), maximum, e);
+    }
     if (e.Found)
     {
       const double alpha = std::min(std::max(tf.GetOpacityValue(e.Value), 0.0), 1.0);

@@ -4,11 +4,13 @@
 // sampling never exceeds it; undefined cells are passed over.
 #include "AdversarialCases.h"
 
+#include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/Extremum.h"
 #include "avos/numerics/Volume.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -102,4 +104,52 @@ TEST(Extremum, SegmentsAndUndefinedCells)
   const an::TrilinearVolume<double, double> nan(undefined.data(), dims);
   const an::Interval<double> whole{ 0.0, 8.0 };
   EXPECT_FALSE(an::ExtremumAlongRay(nan, origin, direction, &whole, 1, true).Found);
+}
+
+// Searching the blocks best first (EmptySpaceMap::Spans sorted by range,
+// stopping at the first block that cannot beat the extremum so far) finds
+// the same value as the whole ray, on random data (noise with rare spikes).
+TEST(Extremum, BestFirstBlocksFindTheSameExtremum)
+{
+  const int dims[3] = { 37, 29, 21 };
+  std::mt19937 rng(8);
+  std::uniform_int_distribution<int> value(0, 255);
+  std::vector<unsigned char> data(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
+  for (auto& v : data)
+  {
+    v = static_cast<unsigned char>(value(rng) / 4 + (rng() % 50 == 0 ? 180 : 0));
+  }
+  const an::TrilinearVolume<double, unsigned char> volume(data.data(), dims);
+  an::EmptySpaceMap<double> map;
+  map.SetDimensions(dims);
+  map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2));
+  std::vector<an::EmptySpaceMap<double>::Span> spans;
+  for (int trial = 0; trial < 500; ++trial)
+  {
+    const adversarial::Ray ray = adversarial::RandomRay(dims, rng, 1.0);
+    const an::Interval<double> whole{ 0.0, ray.Length };
+    for (const bool maximum : { true, false })
+    {
+      const auto plain =
+        an::ExtremumAlongRay(volume, ray.Origin, ray.Direction, &whole, 1, maximum);
+      map.Spans(ray.Origin, ray.Direction, ray.Length, 1e-6, spans);
+      std::sort(spans.begin(), spans.end(),
+        [maximum](const auto& a, const auto& b)
+        { return maximum ? a.Maximum > b.Maximum : a.Minimum < b.Minimum; });
+      an::RayExtremum<double> best;
+      for (const auto& span : spans)
+      {
+        if (best.Found && (maximum ? span.Maximum <= best.Value : span.Minimum >= best.Value))
+        {
+          break;
+        }
+        const an::Interval<double> part{ span.Begin, span.End };
+        an::ExtremumAlongRay(volume, ray.Origin, ray.Direction, &part, 1, maximum, best);
+      }
+      ASSERT_TRUE(plain.Found && best.Found);
+      // The same cells' cubics from other entry points: equal up to rounding.
+      EXPECT_NEAR(best.Value, plain.Value, 1e-12 * (1.0 + std::abs(plain.Value)))
+        << "trial " << trial;
+    }
+  }
 }

@@ -13,6 +13,8 @@
 // one block per iteration, so at most Bx + By + Bz iterations) and returns the
 // parts of [0, D] that cross visible blocks, widened by `pad` against rounding
 // and merged: the segments the evaluators in RayIntegrators.h integrate.
+// Spans() returns every block's part of the ray with the block's range: the
+// intensity projections visit the blocks that can hold the extremum first.
 #ifndef avos_numerics_EmptySpace_h
 #define avos_numerics_EmptySpace_h
 
@@ -134,6 +136,58 @@ public:
     Real pad, std::vector<Interval<Real>>& segments) const
   {
     segments.clear();
+    this->WalkBlocks(origin, direction, D,
+      [&](std::size_t block, Real t, Real exit)
+      {
+        if (!this->Visible[block])
+        {
+          return;
+        }
+        const Real begin = std::max(t - pad, Real(0));
+        const Real end = std::min(exit + pad, D);
+        if (!segments.empty() && begin <= segments.back().End)
+        {
+          segments.back().End = std::max(segments.back().End, end);
+        }
+        else
+        {
+          segments.push_back({ begin, end });
+        }
+      });
+  }
+
+  // A block's part of a ray and the block's value range.
+  struct Span
+  {
+    Real Begin, End;
+    Real Minimum, Maximum;
+  };
+
+  // The parts of the ray in each block it crosses, in order, widened by pad,
+  // with the blocks' ranges (blocks of NaN only left out): what the
+  // intensity projections search, best block first.
+  void Spans(const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction, Real D, Real pad,
+    std::vector<Span>& spans) const
+  {
+    spans.clear();
+    this->WalkBlocks(origin, direction, D,
+      [&](std::size_t block, Real t, Real exit)
+      {
+        if (this->Minimum[block] <= this->Maximum[block])
+        {
+          spans.push_back({ std::max(t - pad, Real(0)), std::min(exit + pad, D),
+            this->Minimum[block], this->Maximum[block] });
+        }
+      });
+  }
+
+private:
+  // visit(block index, t, exit) for each block the ray crosses over [0, D]
+  // (Amanatides and Woo's traversal over blocks: at most Bx + By + Bz).
+  template <typename Visit>
+  void WalkBlocks(const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction, Real D,
+    Visit&& visit) const
+  {
     if (!(D > Real(0)))
     {
       return;
@@ -158,18 +212,9 @@ public:
       const int axis =
         next[0] <= next[1] ? (next[0] <= next[2] ? 0 : 2) : (next[1] <= next[2] ? 1 : 2);
       const Real exit = std::min(next[axis], D);
-      if (this->IsVisible(b[0], b[1], b[2]) && exit >= t)
+      if (exit >= t)
       {
-        const Real begin = std::max(t - pad, Real(0));
-        const Real end = std::min(exit + pad, D);
-        if (!segments.empty() && begin <= segments.back().End)
-        {
-          segments.back().End = std::max(segments.back().End, end);
-        }
-        else
-        {
-          segments.push_back({ begin, end });
-        }
+        visit(this->Index(b[0], b[1], b[2]), t, exit);
       }
       b[axis] += step[axis];
       if (step[axis] == 0 || b[axis] < 0 || b[axis] >= this->Blocks[axis])
@@ -181,7 +226,6 @@ public:
     }
   }
 
-private:
   std::size_t Index(int bx, int by, int bz) const
   {
     return static_cast<std::size_t>(bx) +

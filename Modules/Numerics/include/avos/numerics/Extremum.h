@@ -36,17 +36,18 @@ struct RayExtremum
   long Cells = 0; // cells whose cubic was examined
 };
 
-// The maximum (`maximum`) or minimum of the trilinear interpolant of `volume`
-// on the ray origin + t direction over the sorted, disjoint segments.
+// Updates `result` with the maximum (`maximum`) or minimum of the trilinear
+// interpolant of `volume` on the ray origin + t direction over the sorted,
+// disjoint segments: cells that cannot beat result.Value (when Found) are
+// passed over, so parts of a ray may be searched best first.
 template <typename Real, typename VolumeT>
-RayExtremum<Real> ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
+void ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
-  bool maximum)
+  bool maximum, RayExtremum<Real>& result)
 {
-  RayExtremum<Real> result;
   // Compare as a maximum: the minimum is the maximum of -s.
   const Real sign = maximum ? Real(1) : Real(-1);
-  Real best = -std::numeric_limits<Real>::infinity();
+  Real best = result.Found ? sign * result.Value : -std::numeric_limits<Real>::infinity();
   auto cell = [&](const int index[3], Real t, Real t1) -> bool
   {
     Real c[8];
@@ -79,7 +80,19 @@ RayExtremum<Real> ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real
   {
     CellWalk(volume, origin, direction, segments[j].Begin, segments[j].End, cell);
   }
-  result.Value = sign * best;
+  if (result.Found)
+  {
+    result.Value = sign * best;
+  }
+}
+
+template <typename Real, typename VolumeT>
+RayExtremum<Real> ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
+  bool maximum)
+{
+  RayExtremum<Real> result;
+  ExtremumAlongRay(volume, origin, direction, segments, count, maximum, result);
   return result;
 }
 
