@@ -452,10 +452,9 @@ void AccuracyTable(std::ostream& md, const std::vector<Run>& runs, const std::st
   }
 }
 
-void WriteReport(const std::string& path, const Options& o, const std::vector<Run>& runs,
+void WriteReport(std::ostream& md, const Options& o, const std::vector<Run>& runs,
   const std::string& command, double seconds, const std::string& traceNote)
 {
-  std::ofstream md(path);
   auto has = [&](const char* name)
   { return std::find(o.Names.begin(), o.Names.end(), name) != o.Names.end(); };
   md << "# avos-bench report\n\n"
@@ -593,10 +592,8 @@ void WriteReport(const std::string& path, const Options& o, const std::vector<Ru
   md << "- Figure 6: `steps.png` (" << traceNote << ")\n";
 }
 
-void WriteCSV(
-  const std::string& path, const std::vector<Run>& runs, int width, int height, int frames)
+void WriteCSV(std::ostream& csv, const std::vector<Run>& runs, int width, int height, int frames)
 {
-  std::ofstream csv(path);
   csv << "dataset,family,method,tolerance,step,h0,hmin,hmax,width,height,frames,median_s,min_s,"
          "rays,samples_per_ray,pixels";
   for (int ch = 0; ch < 4; ++ch)
@@ -626,9 +623,8 @@ void WriteCSV(
   }
 }
 
-void WriteHistograms(const std::string& path, const std::vector<Run>& runs)
+void WriteHistograms(std::ostream& csv, const std::vector<Run>& runs)
 {
-  std::ofstream csv(path);
   csv << "dataset,family,run,channel,bin_lower,bin_upper,count,percent\n" << std::setprecision(8);
   for (const Run& r : runs)
   {
@@ -905,8 +901,9 @@ int main(int argc, char* argv[])
   if (o.AdversarialRays > 0)
   {
     const std::string path = o.Output + "/adversarial.md";
+    app::AtomicFile atomic(path);
     std::FILE* file = vtksys::SystemTools::MakeDirectory(o.Output)
-      ? vtksys::SystemTools::Fopen(path, "w")
+      ? vtksys::SystemTools::Fopen(atomic.Path(), "w")
       : nullptr;
     if (!file)
     {
@@ -914,7 +911,11 @@ int main(int argc, char* argv[])
       return EXIT_FAILURE;
     }
     adversarial::WriteReport(file, o.AdversarialRays, o.Threads > 0 ? o.Threads : 2);
-    std::fclose(file);
+    if (std::fclose(file) != 0 || !atomic.Commit())
+    {
+      std::cerr << "error: cannot write '" << path << "'\n";
+      return EXIT_FAILURE;
+    }
     std::cout << "adversarial suite: " << path << "\n";
     return EXIT_SUCCESS;
   }
@@ -1052,22 +1053,29 @@ int main(int argc, char* argv[])
   bar.Finish();
   clock->StopTimer();
 
-  WriteCSV(o.Output + "/results.csv", all, o.Width, o.Height, o.Frames);
-  WriteHistograms(o.Output + "/histograms.csv", all);
-  {
-    std::ofstream csv(o.Output + "/steps.csv");
-    csv << "run,start,length,opacity\n" << std::setprecision(10);
-    for (const Trace& t : traces)
-    {
-      for (std::size_t i = 0; i < t.Start.size(); ++i)
+  // Each file whole or not at all (app::WriteTextFile).
+  const bool written =
+    app::WriteTextFile(o.Output + "/results.csv",
+      [&](std::ostream& out) { WriteCSV(out, all, o.Width, o.Height, o.Frames); }) &&
+    app::WriteTextFile(
+      o.Output + "/histograms.csv", [&](std::ostream& out) { WriteHistograms(out, all); }) &&
+    app::WriteTextFile(o.Output + "/steps.csv",
+      [&](std::ostream& csv)
       {
-        csv << "\"" << t.Label << "\"," << t.Start[i] << "," << t.Length[i] << "," << t.Opacity[i]
-            << "\n";
-      }
-    }
-  }
-  WriteReport(o.Output + "/report.md", o, all, command, clock->GetElapsedTime(), traceNote);
-  const bool plotted = WritePlots(o, all, traces);
+        csv << "run,start,length,opacity\n" << std::setprecision(10);
+        for (const Trace& t : traces)
+        {
+          for (std::size_t i = 0; i < t.Start.size(); ++i)
+          {
+            csv << "\"" << t.Label << "\"," << t.Start[i] << "," << t.Length[i] << ","
+                << t.Opacity[i] << "\n";
+          }
+        }
+      }) &&
+    app::WriteTextFile(o.Output + "/report.md",
+      [&](std::ostream& out)
+      { WriteReport(out, o, all, command, clock->GetElapsedTime(), traceNote); });
+  const bool plotted = written && WritePlots(o, all, traces);
   const bool failed = std::any_of(all.begin(), all.end(), [](const Run& r) { return r.Failed; });
   std::cout << "avos-bench: " << all.size() << " runs in " << Number(clock->GetElapsedTime(), 1)
             << " s; results in " << o.Output << "\n";

@@ -1,5 +1,7 @@
 #include "avosBenchPlots.h"
 
+#include "avosRenderSession.h"
+
 #include "vtkAxis.h"
 #include "vtkChartLegend.h"
 #include "vtkChartMatrix.h"
@@ -121,16 +123,17 @@ bool WriteCharts(
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(view->GetRenderWindow());
   grab->ReadFrontBufferOff();
+  avos::app::AtomicFile file(path);
   vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
+  writer->SetFileName(file.Path().c_str());
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
-  if (!vtksys::SystemTools::FileExists(path) || writer->GetErrorCode() != 0)
+  if (!vtksys::SystemTools::FileExists(file.Path()) || writer->GetErrorCode() != 0)
   {
     std::cerr << "error: cannot write '" << path << "'\n";
     return false;
   }
-  return true;
+  return file.Commit();
 }
 
 } // namespace bench

@@ -29,11 +29,17 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
+
 #include "avos/numerics/ImageMetrics.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -349,20 +355,64 @@ int CommandLineStatus(const std::string& problem, const char* usage)
   return -1;
 }
 
-bool WriteImage(const std::string& path, int width, int height, const std::vector<float>& rgba)
+AtomicFile::AtomicFile(const std::string& target)
+  : Target(target)
+{
+  const std::string directory = vtksys::SystemTools::GetFilenamePath(target);
+  this->Temporary = (directory.empty() ? std::string() : directory + "/") + "." +
+    vtksys::SystemTools::GetFilenameWithoutLastExtension(target) + ".partial-" +
+    std::to_string(::getpid()) + vtksys::SystemTools::GetFilenameLastExtension(target);
+}
+
+AtomicFile::~AtomicFile()
+{
+  if (!this->Committed)
+  {
+    std::remove(this->Temporary.c_str());
+  }
+}
+
+bool AtomicFile::Commit()
+{
+  if (std::rename(this->Temporary.c_str(), this->Target.c_str()) != 0)
+  {
+    std::cerr << "error: cannot write '" << this->Target << "': " << std::strerror(errno) << "\n";
+    return false;
+  }
+  this->Committed = true;
+  return true;
+}
+
+bool WriteTextFile(const std::string& target, const std::function<void(std::ostream&)>& write)
+{
+  AtomicFile file(target);
+  std::ofstream out(file.Path());
+  write(out);
+  out.close();
+  if (!out)
+  {
+    std::cerr << "error: cannot write '" << target << "'\n";
+    return false;
+  }
+  return file.Commit();
+}
+
+bool WriteImage(const std::string& target, int width, int height, const std::vector<float>& rgba)
 {
   const std::string ext =
-    vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(path));
+    vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(target));
   const bool exr = ext == ".exr";
   if (!exr && ext != ".png")
   {
-    std::cerr << "error: an image must end in .png or .exr: '" << path << "'\n";
+    std::cerr << "error: an image must end in .png or .exr: '" << target << "'\n";
     return false;
   }
+  AtomicFile file(target);
+  const std::string& path = file.Path();
   auto out = OIIO::ImageOutput::create(path);
   if (!out)
   {
-    std::cerr << "error: cannot write '" << path << "': " << OIIO::geterror() << "\n";
+    std::cerr << "error: cannot write '" << target << "': " << OIIO::geterror() << "\n";
     return false;
   }
   const int channels = exr ? 4 : 3;
@@ -370,19 +420,19 @@ bool WriteImage(const std::string& path, int width, int height, const std::vecto
     width, height, channels, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!out->open(path, spec))
   {
-    std::cerr << "error: cannot write '" << path << "': " << out->geterror() << "\n";
+    std::cerr << "error: cannot write '" << target << "': " << out->geterror() << "\n";
     return false;
   }
   // Image files store the top row first.
   const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(width) * 4 * sizeof(float);
   const char* last = reinterpret_cast<const char*>(rgba.data()) + row * (height - 1);
   const bool ok = out->write_image(OIIO::TypeDesc::FLOAT, last, 4 * sizeof(float), -row);
-  out->close();
-  if (!ok)
+  if (!out->close() || !ok)
   {
-    std::cerr << "error: writing '" << path << "' failed\n";
+    std::cerr << "error: writing '" << target << "' failed: " << out->geterror() << "\n";
+    return false;
   }
-  return ok;
+  return file.Commit();
 }
 
 std::vector<float> ReadImage(const std::string& path, int width, int height)

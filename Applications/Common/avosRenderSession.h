@@ -10,6 +10,8 @@
 #include "vtkSmartPointer.h"
 
 #include <array>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -106,8 +108,36 @@ double Median(std::vector<double> values);
 /// usage (status 2); -1 when the command line is good and the command goes on.
 int CommandLineStatus(const std::string& problem, const char* usage);
 
+/// A file written whole or not at all: write to Path() (a hidden file beside
+/// the target, with its extension), then Commit() renames it onto the target
+/// in one step. Destroyed uncommitted (a failure, an exception) it removes the
+/// partial file: an interrupted or failed run leaves the previous file or
+/// none, never a truncated one.
+class AtomicFile
+{
+public:
+  explicit AtomicFile(const std::string& target);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  const std::string& Path() const { return this->Temporary; }
+  /// False, with a message on stderr, when the rename fails.
+  bool Commit();
+
+private:
+  std::string Target;
+  std::string Temporary;
+  bool Committed = false;
+};
+
+/// Writes a text file atomically (AtomicFile) from `write`; false, with a
+/// message, when it cannot.
+bool WriteTextFile(const std::string& target, const std::function<void(std::ostream&)>& write);
+
 /// Writes RGBA float pixels (row 0 at the bottom): EXR keeps the four float
-/// channels, PNG gets RGB over the black background in 8 bits.
+/// channels, PNG gets RGB over the black background in 8 bits. Atomically
+/// (AtomicFile).
 bool WriteImage(const std::string& path, int width, int height, const std::vector<float>& rgba);
 
 /// A float RGBA image of the given size, row 0 at the bottom; empty on error.

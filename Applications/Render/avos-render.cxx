@@ -57,6 +57,8 @@ const char* Usage =
   "transfer function is derived from the data range, in VTK's semantics.\n"
   "--opacity vtk renders the TF converted to VTK's semantics (alpha = 1 - exp(-tau) per\n"
   "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
+  "Steps (--step, --h0, --hmin, --hmax) are in voxel units within [0.001, 1000]; --threads 0\n"
+  "(the default) uses every core; --frames and --threads at most 100000.\n"
   "--compare: per RGBA channel, the percentage of pixels whose error against REF.exr (a\n"
   "float image of the same size, e.g. --method reference) exceeds 0.01, 0.005, 0.001, over\n"
   "the pixels where either image is not transparent; in the report too.\n"
@@ -264,6 +266,21 @@ std::string Parse(int argc, char* argv[], Options& o)
   {
     return "--zoom must be positive";
   }
+  // The mapper's range (at most 1000 samples per voxel), checked before any
+  // data is read.
+  for (const auto& step : { std::make_pair("--step", o.Settings.Step),
+         std::make_pair("--h0", o.Settings.H0), std::make_pair("--hmin", o.Settings.HMin),
+         std::make_pair("--hmax", o.Settings.HMax) })
+  {
+    if (!(step.second >= 1e-3 && step.second <= 1e3))
+    {
+      return std::string(step.first) + " must be within [0.001, 1000] voxel units";
+    }
+  }
+  if (!(o.Settings.Tolerance > 0.0 && o.Settings.Tolerance <= 1.0))
+  {
+    return "--tolerance must be in (0, 1]";
+  }
   return std::string();
 }
 
@@ -438,7 +455,8 @@ int main(int argc, char* argv[])
 
   if (!o.Report.empty())
   {
-    std::ofstream report(o.Report);
+    app::AtomicFile file(o.Report);
+    std::ofstream report(file.Path());
     report << std::setprecision(10) << "{\n"
            << "  \"input\": " << JsonString(o.Input) << ",\n"
            << "  \"transfer_function\": " << (o.TF.empty() ? "null" : JsonString(o.TF)) << ",\n"
@@ -493,9 +511,14 @@ int main(int argc, char* argv[])
       report << "  \"rays_cast\": null,\n  \"mean_samples_per_ray\": null\n";
     }
     report << "}\n";
+    report.close();
     if (!report)
     {
       std::cerr << "error: cannot write '" << o.Report << "'\n";
+      return EXIT_FAILURE;
+    }
+    if (!file.Commit())
+    {
       return EXIT_FAILURE;
     }
   }

@@ -232,6 +232,23 @@ print("mean alpha: maximum %.5f (fixed point %.5f), minimum %.5f" % (mip, fixed_
 check(mip > 0 and 0 <= minip < mip, "a maximum projection shows, the minimum below it")
 check(abs(fixed_mip - mip) < 0.05 * mip, "the fixed-point maximum agrees within 5 %")
 
+# Outputs are written whole or not at all: a failing run leaves the previous
+# image and report as they were, and no partial file stays behind.
+kept_png = os.path.join(SCRATCH, "kept.png")
+kept_json = os.path.join(SCRATCH, "kept.json")
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--output", kept_png, "--report", kept_json)
+check(code == 0, "a good run: " + out)
+before = (open(kept_png, "rb").read(), open(kept_json, "rb").read())
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise", "--tolerance",
+                "1e-13", "--output", kept_png, "--report", kept_json)
+check(code != 0, "a failing render fails: " + out)
+check((open(kept_png, "rb").read(), open(kept_json, "rb").read()) == before,
+      "a failing render leaves the previous files untouched")
+check(not [f for f in os.listdir(SCRATCH) if ".partial-" in f], "no partial file left behind")
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--output",
+                os.path.join(SCRATCH, "no-such-folder", "x.png"))
+check(code not in (0, -6, -11) and "cannot write" in out, "an unwritable output: " + out)
+
 # Default transfer function (no --tf) and the VTK opacity model.
 code, out = run(VOLUME, "--size", "32x24", "--opacity", "vtk")
 check(code == 0 and "rays" in out, "default transfer function: " + out)
@@ -251,7 +268,10 @@ for args, message in [((), "no input"),
                       ((VOLUME, "--clip", "1,0,0,1"), "--clip"),
                       ((VOLUME, "--crop", "5,1,0,1,0,1"), "--crop"),
                       ((VOLUME, "--crop-mode", "diagonal"), "--crop-mode"),
-                      ((VOLUME, "--blend", "average"), "--blend")]:
+                      ((VOLUME, "--blend", "average"), "--blend"),
+                      ((VOLUME, "--method", "riemann", "--step", "1e-6"), "--step must be within"),
+                      ((VOLUME, "--hmin", "0"), "--hmin must be within"),
+                      ((VOLUME, "--threads", "-1"), "--threads")]:
     code, out = run(*args)
     check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
 

@@ -58,6 +58,10 @@ struct RayBuffers
 };
 
 constexpr int TileSize = 16;
+// The steps a user may ask for, in voxel units: at most 1000 samples per
+// voxel, so that no setting makes a ray's work unbounded.
+constexpr double SmallestStep = 1e-3;
+constexpr double LargestStep = 1e3;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
 constexpr double SegmentPad = 1e-6;
@@ -562,11 +566,17 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       return fail();
     }
   }
-  if (!(this->SampleDistance > 0.0) || !std::isfinite(this->SampleDistance))
+  for (const double step :
+    { this->SampleDistance, this->InitialStep, this->MinimumStep, this->MaximumStep })
   {
-    vtkErrorMacro(<< "The sample distance must be positive and finite, not " << this->SampleDistance
-                  << ".");
-    return fail();
+    if (!(step >= SmallestStep && step <= LargestStep))
+    {
+      vtkErrorMacro(<< "The sample distance and the steps must be within [" << SmallestStep
+                    << ", " << LargestStep << "] voxel units; got sample distance "
+                    << this->SampleDistance << ", steps " << this->InitialStep << " / "
+                    << this->MinimumStep << " / " << this->MaximumStep << ".");
+      return fail();
+    }
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
     this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&

@@ -127,8 +127,9 @@ public:
   /**
    * Adaptive methods: error tolerance eps per RGBA channel (default 0.01),
    * initial, minimum and maximum step in voxel units (defaults 0.5, 0.1, 2,
-   * the paper's). Checked at render time: eps > 0, 0 < MinimumStep <=
-   * MaximumStep, InitialStep > 0.
+   * the paper's). Checked at render time: eps > 0, and the steps within
+   * [0.001, 1000] with MinimumStep <= MaximumStep (at most 1000 steps per
+   * voxel: every ray's work is bounded).
    */
   vtkSetMacro(Tolerance, double);
   vtkGetMacro(Tolerance, double);
@@ -142,7 +143,8 @@ public:
 
   ///@{
   /**
-   * Riemann method: the step in voxel units (default 0.5).
+   * Riemann method: the step in voxel units (default 0.5), within
+   * [0.001, 1000] (checked at render time).
    */
   vtkSetMacro(SampleDistance, double);
   vtkGetMacro(SampleDistance, double);

@@ -420,8 +420,13 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Mapper->SetMinimumStep(0.1);
   scene.Mapper->SetIntegrationMethodToRiemann();
   scene.Mapper->SetSampleDistance(0.0);
-  expectError("zero sample distance", "sample distance must be positive");
+  expectError("zero sample distance", "within [0.001, 1000] voxel units");
+  scene.Mapper->SetSampleDistance(1e-6);
+  expectError("a step of 1e-6 voxel", "within [0.001, 1000] voxel units");
   scene.Mapper->SetSampleDistance(0.5);
+  scene.Mapper->SetMinimumStep(1e-5);
+  expectError("hmin 1e-5", "within [0.001, 1000] voxel units");
+  scene.Mapper->SetMinimumStep(0.1);
   scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
 
   vtkNew<vtkImageData> noScalars;
@@ -475,8 +480,12 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   expectError("NaN opacity", "Unusable transfer function");
   scene.Opacity->RemovePoint(60);
 
-  scene.Mapper->SetBlendModeToMaximumIntensity();
-  expectError("MIP", "composite blend mode");
+  scene.Mapper->SetBlendModeToAverageIntensity();
+  expectError("average intensity", "composite, maximum and minimum intensity are");
+  scene.Mapper->SetBlendModeToComposite();
+  scene.Property->ShadeOn();
+  expectError("shading", "Shading is not supported");
+  scene.Property->ShadeOff();
   scene.Mapper->SetBlendModeToComposite();
   scene.Window->Render();
   Expect(errors.None("good again"), "recovers at the end");
