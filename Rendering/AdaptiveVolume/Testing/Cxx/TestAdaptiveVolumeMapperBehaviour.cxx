@@ -486,6 +486,20 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Property->ShadeOn();
   expectError("shading", "Shading is not supported");
   scene.Property->ShadeOff();
+  scene.Property->SetInterpolationTypeToNearest();
+  expectError("nearest interpolation", "Only trilinear interpolation");
+  scene.Property->SetInterpolationTypeToLinear();
+  // VTK's default gradient opacity (constant 1, created on first access)
+  // changes nothing and is accepted; a real one is refused.
+  scene.Property->GetGradientOpacity()->RemoveAllPoints();
+  scene.Property->GetGradientOpacity()->AddPoint(0.0, 1.0);
+  scene.Window->Render();
+  Expect(errors.None("constant gradient opacity"), "a constant 1 gradient opacity is accepted");
+  scene.Property->GetGradientOpacity()->AddPoint(10.0, 0.2);
+  expectError("gradient opacity", "no gradient opacity");
+  scene.Property->DisableGradientOpacityOn();
+  scene.Window->Render();
+  Expect(errors.None("disabled gradient opacity"), "a disabled gradient opacity is accepted");
   scene.Mapper->SetBlendModeToComposite();
   scene.Window->Render();
   Expect(errors.None("good again"), "recovers at the end");
