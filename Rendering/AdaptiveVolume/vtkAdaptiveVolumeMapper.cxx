@@ -89,6 +89,8 @@ struct ThreadStatistics
   vtkIdType Rejected = 0;
   vtkIdType Cells = 0;
   vtkIdType Pieces = 0;
+  vtkIdType Failed = 0;   // rays whose integration reported an error
+  std::string FirstError; // the first such error
 };
 
 glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
@@ -419,6 +421,13 @@ private:
       return;
     }
     ++stats.Rays;
+    if (!result.Error.empty())
+    {
+      if (stats.Failed++ == 0)
+      {
+        stats.FirstError = result.Error;
+      }
+    }
     float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Width + x);
     for (int c = 0; c < 4; ++c)
     {
@@ -1009,6 +1018,18 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       total.Rejected += s.Rejected;
       total.Cells += s.Cells;
       total.Pieces += s.Pieces;
+      total.Failed += s.Failed;
+      if (total.FirstError.empty())
+      {
+        total.FirstError = s.FirstError;
+      }
+    }
+    if (total.Failed > 0)
+    {
+      // No silent holes: the frame is refused with what went wrong.
+      vtkErrorMacro(<< total.Failed << " ray(s) could not be integrated: " << total.FirstError
+                    << ".");
+      return fail();
     }
     this->RaysCast = total.Rays;
     this->MeanSamplesPerRay =

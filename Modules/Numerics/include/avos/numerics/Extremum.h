@@ -52,10 +52,11 @@ void ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
   {
     Real c[8];
     volume.GetCorners(index[0], index[1], index[2], c);
-    Real top = sign * c[0];
+    Real top = sign * c[0], bottom = top;
     for (int i = 1; i < 8; ++i)
     {
       top = std::max(top, sign * c[i]);
+      bottom = std::min(bottom, sign * c[i]);
     }
     if (!std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]) || top <= best)
     {
@@ -66,12 +67,16 @@ void ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
       origin + t * direction - glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2])),
       direction);
     const Real length = t1 - t;
-    best = std::max({ best, sign * s(Real(0)), sign * s(length) });
+    // The interpolant never leaves the corners' range: values the cubic's
+    // rounding puts beyond it (relative 1e-16 of the corners' magnitude) are
+    // clamped back (a NaN from overflowing coefficients to the bottom).
+    auto at = [&](Real u) { return std::min(top, std::max(bottom, sign * s(u))); };
+    best = std::max({ best, at(Real(0)), at(length) });
     Real roots[2];
     const int r = detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
     for (int i = 0; i < r; ++i)
     {
-      best = std::max(best, sign * s(roots[i]));
+      best = std::max(best, at(roots[i]));
     }
     result.Found = true;
     return true;

@@ -424,18 +424,21 @@ int QuadraticRoots(Real a, Real b, Real c, Real end, Real roots[2])
 // caller's units) crosses over [tBegin, tEnd], inside the volume's box, in
 // order (Amanatides and Woo's traversal): visit(const int cell[3], t0, t1)
 // for each, with the part [t0, t1] of the ray inside it; visit returns false
-// to stop. At most nx + ny + nz + 3 iterations. Returns false when stopped.
+// to stop. At most nx + ny + nz + 3 iterations; none for a non-finite ray.
+// Returns false when stopped.
 template <typename Real, typename VolumeT, typename Visit>
 bool CellWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, Real tBegin, Real tEnd, Visit&& visit)
 {
-  if (!(tBegin < tEnd))
+  const glm::vec<3, Real> p = origin + tBegin * direction;
+  // A non-finite ray (or span) visits nothing: its cell would be undefined.
+  if (!(tBegin < tEnd) || !std::isfinite(tEnd - tBegin) ||
+    !std::isfinite(p.x + p.y + p.z + direction.x + direction.y + direction.z))
   {
     return true;
   }
   int n[3], index[3], step[3];
   Real tMax[3], tDelta[3];
-  const glm::vec<3, Real> p = origin + tBegin * direction;
   for (int a = 0; a < 3; ++a)
   {
     n[a] = volume.GetDimension(a) - 1; // cells along the axis

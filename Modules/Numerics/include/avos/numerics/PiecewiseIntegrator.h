@@ -54,7 +54,12 @@
 // those of the piece (shift by at most l), so A <= 1 for all h below a
 // constant h_A of the piece's data. Hence at most 2 l / max(h_A, l 2^-40) + 1
 // sub-intervals per piece, each after at most 40 halvings and with at most 40
-// series terms.
+// series terms; and a piece stops as soon as what is left of J, at most its
+// transmittance times the variation of q over the rest, fits the rest's
+// share (at once when the transmittance underflows to 0). Since 2^41 steps
+// would never end in practice, a piece is refused (the ray reports an error)
+// beyond 2^16 sub-intervals: only data near 1e100 against knots near 1 needs
+// them (found by fuzzing).
 // A sample is one evaluation of the transfer function at an interpolated
 // scalar: one per piece (its end); the series needs none.
 #ifndef avos_numerics_PiecewiseIntegrator_h
@@ -67,6 +72,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -205,6 +211,10 @@ struct Reciprocals
 // terms whenever A <= 1, since the tail is below e / 41!); a sub-interval
 // where A > 1 is halved first, and then grows back by doubling. Accepted and
 // halved sub-intervals are counted as steps in `stats`.
+// The most sub-intervals SeriesIntegral takes on a piece before it gives up
+// (returns NaN); the bound above allows 2^41 for extreme data.
+constexpr long MaximumSubintervals = 1L << 16;
+
 template <typename Real, typename Allowed>
 Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
   const Allowed& allowed, RayStatistics<Real>& stats)
@@ -213,14 +223,33 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
   static constexpr Reciprocals<Real> inverse{};
   Real J = Real(0);
   Real v = Real(0), h = l, Ev = Real(1);
-  while (v < l)
+  for (long count = 0; v < l; ++count)
   {
+    if (count == MaximumSubintervals)
+    {
+      // Only data whose cubic's rounding exceeds the transfer function's
+      // scale (corner values near 1e100) gets here: reported, not guessed.
+      return std::numeric_limits<Real>::quiet_NaN();
+    }
     h = std::min(h, l - v);
     Real theta[8];
     std::copy(depth.D, depth.D + depth.Degree + 1, theta);
     ShiftPolynomial(theta, depth.Degree, v);
     Real g[3] = { q.K[1], Real(2) * q.K[2], Real(3) * q.K[3] }; // q'
     ShiftPolynomial(g, 2, v);
+    // The rest of J, int_v^l q' e^{-theta}, lies within +-Ev V (theta does
+    // not decrease; V bounds int |q'|): once that is within the rest's
+    // share, the rest is taken as 0. This ends a piece whose transmittance
+    // has run out (Ev = 0 from extreme data) at once, where sub-intervals of
+    // l 2^-40 would take 2^40 steps.
+    const Real rest = l - v;
+    const Real variation =
+      rest * (std::abs(g[0]) + rest * (std::abs(g[1]) + rest * std::abs(g[2])));
+    if (Ev * variation <= allowed(Ev, El, rest))
+    {
+      stats.Accept(rest);
+      break;
+    }
     auto magnitude = [&](Real w)
     {
       Real a = Real(0);
@@ -371,6 +400,13 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       else
       {
         J = detail::SeriesIntegral(depth, q, l, EL, allowed, stats);
+        if (std::isnan(J))
+        {
+          result.Error = "a piece needs more than 65536 sub-intervals (data values too large "
+                         "for double precision against the transfer function's knots)";
+          stopped = true;
+          return false;
+        }
       }
       color += p.ColourSlope * (Ta * J);
     }
@@ -393,6 +429,10 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     PieceWalk(volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells,
       integratePiece);
   }
+  if (!result.Error.empty())
+  {
+    return result; // a refused piece: no value
+  }
   // Inside [0, 1] whatever the rounding: each channel is a sum of
   // non-negative contributions bounded by 1 - T.
   for (int c = 0; c < 3; ++c)
@@ -400,6 +440,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     color[c] = std::min(std::max(color[c], Real(0)), Real(1) - T);
   }
   result.RGBA = glm::vec<4, Real>(color, Real(1) - T);
+  detail::RequireFinite(result);
   return result;
 }
 

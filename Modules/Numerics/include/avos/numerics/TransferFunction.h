@@ -88,8 +88,12 @@ public:
     {
       return n;
     }
+    // A knot span that overflows makes x NaN or infinite (found by fuzzing):
+    // any first guess is corrected below.
     const Real x = (s - this->Knots.front()) * this->BucketScale;
-    std::size_t i = this->Buckets[std::min(static_cast<std::size_t>(x), this->Buckets.size() - 1)];
+    const std::size_t last = this->Buckets.size() - 1;
+    std::size_t i =
+      this->Buckets[x < Real(last) ? (x >= Real(0) ? static_cast<std::size_t>(x) : 0) : last];
     while (i < n && this->Knots[i] <= s)
     {
       ++i;
