@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Builds AVoS with sanitizers in build-<mode>/ and runs the test suite there:
+#   scripts/test-sanitizers.sh address   AddressSanitizer + UndefinedBehaviorSanitizer, every test
+#   scripts/test-sanitizers.sh thread    ThreadSanitizer, the multithreaded paths
+# Any report fails the run (the sanitizers abort on their first finding).
+# Extra arguments go to ctest. Not part of scripts/test.sh: the sanitized
+# build and run take several times as long.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+mode="${1:-address}"
+shift || true
+case "$mode" in
+  address) sanitize="address,undefined"; runtime=libasan.so ;;
+  thread) sanitize="thread"; runtime=libtsan.so ;;
+  *) echo "usage: $0 [address|thread] [ctest arguments]" >&2; exit 2 ;;
+esac
+build="$root/build-$mode"
+
+"$root/scripts/install-deps.sh"
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAVOS_SANITIZE="$sanitize" \
+  -DPython3_EXECUTABLE=/usr/bin/python3 -DAVOS_SHARED_DATA_DIR="$root/../shared/data" >/dev/null
+cmake --build "$build" --parallel "$(nproc)"
+
+# Leaks: VTK and Python keep allocations to exit by design; our objects are
+# reference counted through VTK. Python loads our sanitized libraries into an
+# unsanitized interpreter: the runtime is preloaded for the tests only (not
+# for the X server).
+export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/Testing/tsan.supp"
+preload="$(gcc -print-file-name="$runtime")"
+cd "$build"
+# The install test builds a consumer against the (sanitized) install with
+# the plain compiler: not a sanitizer check.
+labels=(-LE install)
+if [ "$mode" = thread ]; then
+  # The threaded paths: the mapper's tiles, Volume on Surface, decimation.
+  labels+=(-L "rendering|vos|decimation")
+fi
+xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \
+  env LD_PRELOAD="$preload" ctest --output-on-failure --timeout 3000 -j "$(nproc)" \
+  "${labels[@]}" "$@"
