@@ -27,6 +27,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "ObliqueScene.h"
 #include "Oracles.h"
 
 #include <algorithm>
@@ -62,25 +63,11 @@ bool RegionKept(const glm::dvec3& p)
 glm::dvec4 Exact(vtkRenderer* renderer, const avos::numerics::TransferFunction<double>& tf,
   double scale, int x, int y)
 {
-  renderer->SetDisplayPoint(x + 0.5, y + 0.5, 0.0);
-  renderer->DisplayToWorld();
-  const double* w = renderer->GetWorldPoint();
-  const glm::dvec3 start(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
-  double dop[3];
-  renderer->GetActiveCamera()->GetDirectionOfProjection(dop);
-  const glm::dvec3 dir(dop[0], dop[1], dop[2]);
+  const obliquescene::PixelRay ray = obliquescene::RayOf(renderer, x, y);
+  double t0 = ray.T0, t1 = ray.T1;
+  const glm::dvec3& start = ray.Start;
+  const glm::dvec3& dir = ray.Direction;
   std::vector<double> cuts;
-  double t0 = 0.0, t1 = 1e30;
-  for (int a = 0; a < 3; ++a)
-  {
-    double ta = (-1.0 - start[a]) / dir[a], tb = (1.0 - start[a]) / dir[a];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
   // Keep n . (p - o) >= 0.
   const glm::dvec3 n(PlaneNormal[0], PlaneNormal[1], PlaneNormal[2]);
   const glm::dvec3 o(PlaneOrigin[0], PlaneOrigin[1], PlaneOrigin[2]);
@@ -166,18 +153,9 @@ int TestAdaptiveVolumeMapperClipping(int, char*[])
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);
-  vtkNew<vtkRenderer> renderer;
-  renderer->AddVolume(volume);
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(Size, Size);
-  window->AddRenderer(renderer);
-  renderer->GetActiveCamera()->ParallelProjectionOn();
-  renderer->ResetCamera();
-  renderer->GetActiveCamera()->Azimuth(30.0);
-  renderer->GetActiveCamera()->Elevation(35.0);
-  renderer->GetActiveCamera()->OrthogonalizeViewUp();
-  renderer->ResetCameraClippingRange();
+  obliquescene::Scene scene(volume, Size);
+  vtkRenderer* renderer = scene.Renderer;
+  vtkRenderWindow* window = scene.Window;
 
   const Run runs[] = {
     { "piecewise eps 1e-3", vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE, 1e-3, 40.0, true, 1e-3 },

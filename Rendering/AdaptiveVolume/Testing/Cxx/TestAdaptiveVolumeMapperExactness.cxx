@@ -21,6 +21,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "ObliqueScene.h"
 #include "Oracles.h"
 
 #include <algorithm>
@@ -47,32 +48,10 @@ struct Run
 glm::dvec4 Exact(vtkRenderer* renderer, const avos::numerics::TransferFunction<double>& tf,
   double voxel, int x, int y)
 {
-  renderer->SetDisplayPoint(x + 0.5, y + 0.5, 0.0);
-  renderer->DisplayToWorld();
-  const double* w = renderer->GetWorldPoint();
-  const glm::dvec3 start(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
-  double dop[3];
-  renderer->GetActiveCamera()->GetDirectionOfProjection(dop);
-  const glm::dvec3 dir(dop[0], dop[1], dop[2]);
-  double t0 = 0.0, t1 = 1e30;
-  for (int a = 0; a < 3; ++a)
-  {
-    if (dir[a] == 0.0)
-    {
-      if (std::abs(start[a]) > 1.0)
-      {
-        return glm::dvec4(0.0);
-      }
-      continue;
-    }
-    double ta = (-1.0 - start[a]) / dir[a], tb = (1.0 - start[a]) / dir[a];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
-  }
+  const obliquescene::PixelRay ray = obliquescene::RayOf(renderer, x, y);
+  const double t0 = ray.T0, t1 = ray.T1;
+  const glm::dvec3& start = ray.Start;
+  const glm::dvec3& dir = ray.Direction;
   if (!(t0 < t1))
   {
     return glm::dvec4(0.0);
@@ -115,18 +94,9 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);
-  vtkNew<vtkRenderer> renderer;
-  renderer->AddVolume(volume);
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(Size, Size);
-  window->AddRenderer(renderer);
-  renderer->GetActiveCamera()->ParallelProjectionOn();
-  renderer->ResetCamera();
-  renderer->GetActiveCamera()->Azimuth(30.0);
-  renderer->GetActiveCamera()->Elevation(35.0);
-  renderer->GetActiveCamera()->OrthogonalizeViewUp();
-  renderer->ResetCameraClippingRange();
+  obliquescene::Scene scene(volume, Size);
+  vtkRenderer* renderer = scene.Renderer;
+  vtkRenderWindow* window = scene.Window;
 
   const Run runs[] = { { "coupled eps 1e-2", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, 1e-2,
                          1e-2 },

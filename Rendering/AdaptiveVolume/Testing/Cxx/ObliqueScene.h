@@ -1,0 +1,75 @@
+// The closed-form tests' scene: a volume on [-1, 1]^3 in one window, seen
+// through an orthographic camera turned 30 degrees in azimuth and 35 in
+// elevation (no ray along an axis), and each pixel's ray rebuilt from the
+// renderer independently of the mapper, clipped to the box.
+#ifndef ObliqueScene_h
+#define ObliqueScene_h
+
+#include "vtkCamera.h"
+#include "vtkNew.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkVolume.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+
+namespace obliquescene
+{
+struct Scene
+{
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+
+  Scene(vtkVolume* volume, int size)
+  {
+    this->Renderer->AddVolume(volume);
+    this->Window->SetOffScreenRendering(1);
+    this->Window->SetSize(size, size);
+    this->Window->AddRenderer(this->Renderer);
+    vtkCamera* camera = this->Renderer->GetActiveCamera();
+    camera->ParallelProjectionOn();
+    this->Renderer->ResetCamera();
+    camera->Azimuth(30.0);
+    camera->Elevation(35.0);
+    camera->OrthogonalizeViewUp();
+    this->Renderer->ResetCameraClippingRange();
+  }
+};
+
+// The ray through pixel (x, y)'s centre, Start + t Direction (world units),
+// inside [-1, 1]^3 for t in [T0, T1]; T0 >= T1 when it misses the box.
+struct PixelRay
+{
+  glm::dvec3 Start, Direction;
+  double T0 = 0.0, T1 = 0.0;
+};
+
+inline PixelRay RayOf(vtkRenderer* renderer, int x, int y)
+{
+  PixelRay ray;
+  renderer->SetDisplayPoint(x + 0.5, y + 0.5, 0.0);
+  renderer->DisplayToWorld();
+  const double* w = renderer->GetWorldPoint();
+  ray.Start = glm::dvec3(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
+  double dop[3];
+  renderer->GetActiveCamera()->GetDirectionOfProjection(dop);
+  ray.Direction = glm::dvec3(dop[0], dop[1], dop[2]);
+  ray.T1 = 1e30;
+  for (int a = 0; a < 3; ++a)
+  {
+    double ta = (-1.0 - ray.Start[a]) / ray.Direction[a];
+    double tb = (1.0 - ray.Start[a]) / ray.Direction[a];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    ray.T0 = std::max(ray.T0, ta);
+    ray.T1 = std::min(ray.T1, tb);
+  }
+  return ray;
+}
+} // namespace obliquescene
+
+#endif
