@@ -229,6 +229,11 @@ void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const Tr
         direction };
       const an::RayResult<double> r = an::IntegrateRiemann(field, tf, D, method.SampleDistance,
         an::RiemannForm::Exponential, buffers.Clipped.data(), buffers.Clipped.size(), bound, steps);
+      if (!r.Error.empty())
+      {
+        result.Error = r.Error;
+        return;
+      }
       rgba = r.RGBA;
       result.Statistics.Samples += r.Statistics.Samples;
     }
