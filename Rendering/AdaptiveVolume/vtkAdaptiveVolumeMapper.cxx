@@ -295,37 +295,11 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     // The exact extremum of the ray's scalar, shown as VTK's mappers show a
     // projection: its colour times the opacity function's value there.
     const bool maximum = method.Blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
-    an::RayExtremum<double> e;
-    if (map)
-    {
-      // Blocks best first (by their range); once a block's range cannot beat
-      // the extremum found, neither can the rest.
-      auto& spans = buffers.Spans;
-      map->Spans(origin, direction, D, SegmentPad, spans);
-      std::sort(spans.begin(), spans.end(),
-        [maximum](const auto& a, const auto& b)
-        { return maximum ? a.Maximum > b.Maximum : a.Minimum < b.Minimum; });
-      for (const auto& span : spans)
-      {
-        if (e.Found && (maximum ? span.Maximum <= e.Value : span.Minimum >= e.Value))
-        {
-          break;
-        }
-        for (const an::Interval<double>& part : segments)
-        {
-          const an::Interval<double> piece{ std::max(part.Begin, span.Begin),
-            std::min(part.End, span.End) };
-          if (piece.Begin < piece.End)
-          {
-            an::ExtremumAlongRay(volume, origin, direction, &piece, 1, maximum, e);
-          }
-        }
-      }
-    }
-    else
-    {
-      an::ExtremumAlongRay(volume, origin, direction, segments.data(), segments.size(), maximum, e);
-    }
+    // Blocks best first where the map gives their ranges.
+    const an::RayExtremum<double> e = map
+      ? an::ExtremumByBlocks(volume, *map, origin, direction, D, SegmentPad, segments.data(),
+          segments.size(), maximum, buffers.Spans)
+      : an::ExtremumAlongRay(volume, origin, direction, segments.data(), segments.size(), maximum);
     if (e.Found)
     {
       const double alpha = std::min(std::max(tf.GetOpacityValue(e.Value), 0.0), 1.0);
@@ -608,10 +582,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     if (!(step >= SmallestStep && step <= LargestStep))
     {
-      vtkErrorMacro(<< "The sample distance and the steps must be within [" << SmallestStep
-                    << ", " << LargestStep << "] voxel units; got sample distance "
-                    << this->SampleDistance << ", steps " << this->InitialStep << " / "
-                    << this->MinimumStep << " / " << this->MaximumStep << ".");
+      vtkErrorMacro(<< "The sample distance and the steps must be within [" << SmallestStep << ", "
+                    << LargestStep << "] voxel units; got sample distance " << this->SampleDistance
+                    << ", steps " << this->InitialStep << " / " << this->MinimumStep << " / "
+                    << this->MaximumStep << ".");
       return fail();
     }
   }

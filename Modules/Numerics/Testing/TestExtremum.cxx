@@ -106,9 +106,10 @@ TEST(Extremum, SegmentsAndUndefinedCells)
   EXPECT_FALSE(an::ExtremumAlongRay(nan, origin, direction, &whole, 1, true).Found);
 }
 
-// Searching the blocks best first (EmptySpaceMap::Spans sorted by range,
-// stopping at the first block that cannot beat the extremum so far) finds
-// the same value as the whole ray, on random data (noise with rare spikes).
+// Searching the blocks best first (ExtremumByBlocks: EmptySpaceMap::Spans
+// sorted by range, stopping at the first block that cannot beat the
+// extremum so far) finds the same value as the whole ray, on random data
+// (noise with rare spikes).
 TEST(Extremum, BestFirstBlocksFindTheSameExtremum)
 {
   const int dims[3] = { 37, 29, 21 };
@@ -132,20 +133,8 @@ TEST(Extremum, BestFirstBlocksFindTheSameExtremum)
     {
       const auto plain =
         an::ExtremumAlongRay(volume, ray.Origin, ray.Direction, &whole, 1, maximum);
-      map.Spans(ray.Origin, ray.Direction, ray.Length, 1e-6, spans);
-      std::sort(spans.begin(), spans.end(),
-        [maximum](const auto& a, const auto& b)
-        { return maximum ? a.Maximum > b.Maximum : a.Minimum < b.Minimum; });
-      an::RayExtremum<double> best;
-      for (const auto& span : spans)
-      {
-        if (best.Found && (maximum ? span.Maximum <= best.Value : span.Minimum >= best.Value))
-        {
-          break;
-        }
-        const an::Interval<double> part{ span.Begin, span.End };
-        an::ExtremumAlongRay(volume, ray.Origin, ray.Direction, &part, 1, maximum, best);
-      }
+      const auto best = an::ExtremumByBlocks(
+        volume, map, ray.Origin, ray.Direction, ray.Length, 1e-6, &whole, 1, maximum, spans);
       ASSERT_TRUE(plain.Found && best.Found);
       // The same cells' cubics from other entry points: equal up to rounding.
       EXPECT_NEAR(best.Value, plain.Value, 1e-12 * (1.0 + std::abs(plain.Value)))

@@ -13,6 +13,7 @@
 #ifndef avos_numerics_Extremum_h
 #define avos_numerics_Extremum_h
 
+#include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/Pieces.h"
 #include "avos/numerics/RayIntegrators.h"
 
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 namespace avos
 {
@@ -98,6 +100,41 @@ RayExtremum<Real> ExtremumAlongRay(const VolumeT& volume, const glm::vec<3, Real
 {
   RayExtremum<Real> result;
   ExtremumAlongRay(volume, origin, direction, segments, count, maximum, result);
+  return result;
+}
+
+// The same, searching the blocks of `map` the ray crosses best first: each
+// block's part of the ray (EmptySpaceMap::Spans, widened by `pad`) in the
+// order of the block's range, until a block's range cannot beat the
+// extremum found, when neither can the rest. The ray lies in the volume's
+// box for t in [0, D], the segments in [0, D]; `spans` is scratch space.
+template <typename Real, typename VolumeT>
+RayExtremum<Real> ExtremumByBlocks(const VolumeT& volume, const EmptySpaceMap<Real>& map,
+  const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction, Real D, Real pad,
+  const Interval<Real>* segments, std::size_t count, bool maximum,
+  std::vector<typename EmptySpaceMap<Real>::Span>& spans)
+{
+  RayExtremum<Real> result;
+  map.Spans(origin, direction, D, pad, spans);
+  std::sort(spans.begin(), spans.end(),
+    [maximum](const auto& a, const auto& b)
+    { return maximum ? a.Maximum > b.Maximum : a.Minimum < b.Minimum; });
+  for (const auto& span : spans)
+  {
+    if (result.Found && (maximum ? span.Maximum <= result.Value : span.Minimum >= result.Value))
+    {
+      break;
+    }
+    for (std::size_t j = 0; j < count; ++j)
+    {
+      const Interval<Real> part{ std::max(segments[j].Begin, span.Begin),
+        std::min(segments[j].End, span.End) };
+      if (part.Begin < part.End)
+      {
+        ExtremumAlongRay(volume, origin, direction, &part, 1, maximum, result);
+      }
+    }
+  }
   return result;
 }
 
