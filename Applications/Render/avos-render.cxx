@@ -268,13 +268,17 @@ std::string Parse(int argc, char* argv[], Options& o)
   }
   // The mapper's range (at most 1000 samples per voxel), checked before any
   // data is read.
-  for (const auto& step : { std::make_pair("--step", o.Settings.Step),
-         std::make_pair("--h0", o.Settings.H0), std::make_pair("--hmin", o.Settings.HMin),
-         std::make_pair("--hmax", o.Settings.HMax) })
+  for (const auto& step :
+    { std::make_pair("--step", o.Settings.Step), std::make_pair("--h0", o.Settings.H0),
+      std::make_pair("--hmin", o.Settings.HMin), std::make_pair("--hmax", o.Settings.HMax) })
   {
-    if (!(step.second >= 1e-3 && step.second <= 1e3))
+    if (!(step.second >= vtkAdaptiveVolumeMapper::GetSmallestStep() &&
+          step.second <= vtkAdaptiveVolumeMapper::GetLargestStep()))
     {
-      return std::string(step.first) + " must be within [0.001, 1000] voxel units";
+      std::ostringstream problem;
+      problem << step.first << " must be within [" << vtkAdaptiveVolumeMapper::GetSmallestStep()
+              << ", " << vtkAdaptiveVolumeMapper::GetLargestStep() << "] voxel units";
+      return problem.str();
     }
   }
   if (!(o.Settings.Tolerance > 0.0 && o.Settings.Tolerance <= 1.0))

@@ -59,10 +59,6 @@ struct RayBuffers
 };
 
 constexpr int TileSize = 16;
-// The steps a user may ask for, in voxel units: at most 1000 samples per
-// voxel, so that no setting makes a ray's work unbounded.
-constexpr double SmallestStep = 1e-3;
-constexpr double LargestStep = 1e3;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
 constexpr double SegmentPad = 1e-6;
@@ -580,12 +576,12 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   for (const double step :
     { this->SampleDistance, this->InitialStep, this->MinimumStep, this->MaximumStep })
   {
-    if (!(step >= SmallestStep && step <= LargestStep))
+    if (!(step >= GetSmallestStep() && step <= GetLargestStep()))
     {
-      vtkErrorMacro(<< "The sample distance and the steps must be within [" << SmallestStep << ", "
-                    << LargestStep << "] voxel units; got sample distance " << this->SampleDistance
-                    << ", steps " << this->InitialStep << " / " << this->MinimumStep << " / "
-                    << this->MaximumStep << ".");
+      vtkErrorMacro(<< "The sample distance and the steps must be within [" << GetSmallestStep()
+                    << ", " << GetLargestStep() << "] voxel units; got sample distance "
+                    << this->SampleDistance << ", steps " << this->InitialStep << " / "
+                    << this->MinimumStep << " / " << this->MaximumStep << ".");
       return fail();
     }
   }

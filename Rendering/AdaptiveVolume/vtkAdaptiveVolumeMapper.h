@@ -143,6 +143,16 @@ public:
 
   ///@{
   /**
+   * The range every step (SampleDistance, InitialStep, MinimumStep,
+   * MaximumStep) must lie in, in voxel units: at most 1000 samples per voxel,
+   * so that no setting makes a ray's work unbounded.
+   */
+  static double GetSmallestStep() { return 1e-3; }
+  static double GetLargestStep() { return 1e3; }
+  ///@}
+
+  ///@{
+  /**
    * Riemann method: the step in voxel units (default 0.5), within
    * [0.001, 1000] (checked at render time).
    */
