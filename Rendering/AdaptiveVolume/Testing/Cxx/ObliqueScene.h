@@ -1,19 +1,27 @@
 // The closed-form tests' scene: a volume on [-1, 1]^3 in one window, seen
 // through an orthographic camera turned 30 degrees in azimuth and 35 in
 // elevation (no ray along an axis), and each pixel's ray rebuilt from the
-// renderer independently of the mapper, clipped to the box.
+// renderer independently of the mapper, clipped to the box; the ramp volume
+// and the piecewise-linear transfer functions they render.
 #ifndef ObliqueScene_h
 #define ObliqueScene_h
 
+#include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include "avos/numerics/TransferFunction.h"
 
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <cstddef>
 
 namespace obliquescene
 {
@@ -69,6 +77,41 @@ inline PixelRay RayOf(vtkRenderer* renderer, int x, int y)
     ray.T1 = std::min(ray.T1, tb);
   }
   return ray;
+}
+// The ramp s = shift + scale z on [-1, 1]^3, 33^3 double points (one voxel
+// unit = 1/16: trilinear interpolation reproduces it exactly).
+inline void MakeRamp(vtkAnalyticVolumeSource* source, double shift, double scale)
+{
+  source->SetFunctionToLinearRamp();
+  source->SetRampAxis(2);
+  source->SetDimensions(33, 33, 33);
+  source->SetScalarShift(shift);
+  source->SetScalarScale(scale);
+  source->SetOutputScalarTypeToDouble();
+}
+
+// Knots (scalar, r, g, b, opacity) as the property's piecewise-linear
+// colour and opacity, and as the numerical core's transfer function when
+// `tf` is given (the oracles evaluate that one).
+template <std::size_t N>
+void FillProperty(const double (&knots)[N][5], vtkVolumeProperty* property,
+  avos::numerics::TransferFunction<double>* tf = nullptr)
+{
+  vtkNew<vtkColorTransferFunction> color;
+  vtkNew<vtkPiecewiseFunction> opacity;
+  for (const auto& k : knots)
+  {
+    color->AddRGBPoint(k[0], k[1], k[2], k[3]);
+    opacity->AddPoint(k[0], k[4]);
+    if (tf)
+    {
+      tf->AddColorKnot(k[0], k[1], k[2], k[3]);
+      tf->AddOpacityKnot(k[0], k[4]);
+    }
+  }
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+  property->SetInterpolationTypeToLinear();
 }
 } // namespace obliquescene
 

@@ -12,8 +12,6 @@
 // cover the same pixels (the same kept side and regions).
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
-#include "vtkCamera.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkFixedPointRayCastImage.h"
 #include "vtkFixedPointVolumeRayCastMapper.h"
 #include "vtkFloatArray.h"
@@ -121,26 +119,11 @@ struct Run
 
 int TestAdaptiveVolumeMapperClipping(int, char*[])
 {
-  vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetRampAxis(2);
-  source->SetDimensions(33, 33, 33);
-  source->SetScalarShift(Shift);
-  source->SetOutputScalarTypeToDouble();
-
-  vtkNew<vtkColorTransferFunction> color;
-  vtkNew<vtkPiecewiseFunction> opacity;
+  vtkNew<vtkAnalyticVolumeSource> source; // the function and scale set per run
+  obliquescene::MakeRamp(source, Shift, 40.0);
   avos::numerics::TransferFunction<double> tf;
-  for (const auto& k : Knots)
-  {
-    color->AddRGBPoint(k[0], k[1], k[2], k[3]);
-    opacity->AddPoint(k[0], k[4]);
-    tf.AddColorKnot(k[0], k[1], k[2], k[3]);
-    tf.AddOpacityKnot(k[0], k[4]);
-  }
   vtkNew<vtkVolumeProperty> property;
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetInterpolationTypeToLinear();
+  obliquescene::FillProperty(Knots, property, &tf);
 
   vtkNew<vtkPlane> plane;
   plane->SetOrigin(PlaneOrigin[0], PlaneOrigin[1], PlaneOrigin[2]);
@@ -234,7 +217,7 @@ int TestAdaptiveVolumeMapperClipping(int, char*[])
     alpha->AddPoint(k[0], -std::expm1(-k[4]));
   }
   vtkNew<vtkVolumeProperty> vtkProperty;
-  vtkProperty->SetColor(color);
+  vtkProperty->SetColor(property->GetRGBTransferFunction());
   vtkProperty->SetScalarOpacity(alpha);
   vtkProperty->SetScalarOpacityUnitDistance(Voxel);
   vtkProperty->SetInterpolationTypeToLinear();

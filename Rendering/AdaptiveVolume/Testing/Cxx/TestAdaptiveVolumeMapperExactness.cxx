@@ -9,12 +9,9 @@
 // can tell a wrong integral from a right one).
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
-#include "vtkCamera.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -65,28 +62,11 @@ glm::dvec4 Exact(vtkRenderer* renderer, const avos::numerics::TransferFunction<d
 int TestAdaptiveVolumeMapperExactness(int, char*[])
 {
   vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetFunctionToLinearRamp();
-  source->SetRampAxis(2);
-  source->SetDimensions(33, 33, 33); // spacing 1/16: one voxel unit = 1/16
-  source->SetScalarShift(Shift);
-  source->SetScalarScale(Scale);
-  source->SetOutputScalarTypeToDouble();
+  obliquescene::MakeRamp(source, Shift, Scale);
   const double voxel = 2.0 / 32.0;
-
-  vtkNew<vtkColorTransferFunction> color;
-  vtkNew<vtkPiecewiseFunction> opacity;
   avos::numerics::TransferFunction<double> tf;
-  for (const auto& k : Knots)
-  {
-    color->AddRGBPoint(k[0], k[1], k[2], k[3]);
-    opacity->AddPoint(k[0], k[4]);
-    tf.AddColorKnot(k[0], k[1], k[2], k[3]);
-    tf.AddOpacityKnot(k[0], k[4]);
-  }
   vtkNew<vtkVolumeProperty> property;
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetInterpolationTypeToLinear();
+  obliquescene::FillProperty(Knots, property, &tf);
 
   vtkNew<vtkAdaptiveVolumeMapper> mapper;
   mapper->SetInputConnection(source->GetOutputPort());

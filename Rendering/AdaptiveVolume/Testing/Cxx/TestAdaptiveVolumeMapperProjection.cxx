@@ -11,14 +11,11 @@
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCallbackCommand.h"
-#include "vtkCamera.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkFixedPointRayCastImage.h"
 #include "vtkFixedPointVolumeRayCastMapper.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
-#include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
@@ -87,24 +84,9 @@ glm::dvec4 Exact(vtkRenderer* renderer, bool maximum, bool clipped, int x, int y
 int TestAdaptiveVolumeMapperProjection(int, char*[])
 {
   vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetFunctionToLinearRamp();
-  source->SetRampAxis(2);
-  source->SetDimensions(33, 33, 33);
-  source->SetScalarShift(Shift);
-  source->SetScalarScale(Scale);
-  source->SetOutputScalarTypeToDouble();
-
-  vtkNew<vtkColorTransferFunction> color;
-  vtkNew<vtkPiecewiseFunction> opacity;
-  for (const auto& k : Knots)
-  {
-    color->AddRGBPoint(k[0], k[1], k[2], k[3]);
-    opacity->AddPoint(k[0], k[4]);
-  }
+  obliquescene::MakeRamp(source, Shift, Scale);
   vtkNew<vtkVolumeProperty> property;
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetInterpolationTypeToLinear();
+  obliquescene::FillProperty(Knots, property);
 
   vtkNew<vtkAdaptiveVolumeMapper> mapper;
   mapper->SetInputConnection(source->GetOutputPort());
