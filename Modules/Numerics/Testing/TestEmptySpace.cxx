@@ -8,8 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 using namespace avos::numerics;
@@ -104,6 +107,39 @@ TEST(Volume, TrilinearIsExactOnTrilinearFunctions)
   EXPECT_NEAR(volume(glm::dvec3(-5, 0, 0)), f(0, 0, 0), 1e-12);
   EXPECT_NEAR(volume(glm::dvec3(0, 1e9, 0)), f(0, N[1] - 1, 0), 1e-9);
   EXPECT_TRUE(std::isfinite(volume(glm::dvec3(std::nan(""), 0, 0))));
+}
+
+// Found by fuzzing (corpus file timeout-cliptogrid-nan-start): a NaN start
+// passed every slab comparison, so a ray of length 2.7e9 was "clipped" to
+// itself and the Riemann sum ran for hours.
+TEST(Volume, ClipToGridRefusesNonFiniteRays)
+{
+  const double nan = std::nan("");
+  const double inf = std::numeric_limits<double>::infinity();
+  const glm::dvec3 inside(1, 1, 1), along(1, 0, 0);
+  double t0 = 0, t1 = 2.7e9;
+  EXPECT_TRUE(ClipToGrid(inside, along, N, t0, t1));
+  EXPECT_DOUBLE_EQ(t1, N[0] - 2.0);
+  for (const auto& [start, step] :
+    { std::pair(glm::dvec3(nan, 1, 1), along), std::pair(glm::dvec3(1, 1, inf), along),
+      std::pair(inside, glm::dvec3(1, nan, 0)), std::pair(inside, glm::dvec3(-inf, 0, 0)) })
+  {
+    t0 = 0;
+    t1 = 2.7e9;
+    EXPECT_FALSE(ClipToGrid(start, step, N, t0, t1));
+  }
+  // An unbounded ray is clipped to the box; one that never moves is refused.
+  t0 = -inf;
+  t1 = inf;
+  EXPECT_TRUE(ClipToGrid(inside, along, N, t0, t1));
+  EXPECT_DOUBLE_EQ(t0, -1.0);
+  EXPECT_DOUBLE_EQ(t1, N[0] - 2.0);
+  t0 = 0;
+  t1 = inf;
+  EXPECT_FALSE(ClipToGrid(inside, glm::dvec3(0, 0, 0), N, t0, t1));
+  t0 = nan;
+  t1 = 1;
+  EXPECT_FALSE(ClipToGrid(inside, along, N, t0, t1));
 }
 
 TEST(EmptySpace, BlockRangesAndClassification)

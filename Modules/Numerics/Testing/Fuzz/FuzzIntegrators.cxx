@@ -55,7 +55,20 @@ public:
     {
       return this->Raw();
     }
-    return lo + (hi - lo) * (this->Byte() * 256 + this->Byte()) / 65535.0;
+    const int high = this->Byte();
+    return lo + (hi - lo) * (high * 256 + this->Byte()) / 65535.0;
+  }
+  // Three numbers read in order (the order in which a function's arguments
+  // are evaluated is unspecified: gcc and clang would decode an input
+  // differently, and a replay would not reproduce the fuzzer's finding).
+  glm::dvec3 Vector(double lo, double hi)
+  {
+    glm::dvec3 v;
+    for (int i = 0; i < 3; ++i)
+    {
+      v[i] = this->In(lo, hi);
+    }
+    return v;
   }
 
 private:
@@ -113,7 +126,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     const double s = in.In(-20.0, 320.0);
     tf.AddOpacityKnot(s, in.In(0.0, 3.0));
-    tf.AddColorKnot(s, in.In(0.0, 1.0), in.In(0.0, 1.0), in.In(0.0, 1.0));
+    const glm::dvec3 rgb = in.Vector(0.0, 1.0);
+    tf.AddColorKnot(s, rgb.r, rgb.g, rgb.b);
   }
   const bool alpha = in.Byte() & 1;
   if (alpha)
@@ -126,8 +140,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0; // refused with a message: nothing more to check
   }
 
-  const glm::dvec3 origin(in.In(-1.0, 7.0), in.In(-1.0, 7.0), in.In(-1.0, 7.0));
-  glm::dvec3 direction(in.In(-1.0, 1.0), in.In(-1.0, 1.0), in.In(-1.0, 1.0));
+  const glm::dvec3 origin = in.Vector(-1.0, 7.0);
+  glm::dvec3 direction = in.Vector(-1.0, 1.0);
   const double length = glm::length(direction);
   if (!(length > 1e-6) || !std::isfinite(length))
   {
@@ -180,8 +194,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   an::ClipRegion<double> clip;
   if (in.Byte() & 1)
   {
-    clip.AddPlane(
-      glm::dvec3(in.In(-1.0, 1.0), in.In(-1.0, 1.0), in.In(-1.0, 1.0)), in.In(-5.0, 5.0));
+    const glm::dvec3 normal = in.Vector(-1.0, 1.0);
+    clip.AddPlane(normal, in.In(-5.0, 5.0));
   }
   if (in.Byte() & 1)
   {
@@ -190,7 +204,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     {
       p = in.In(-1.0, 7.0);
     }
-    clip.SetCropping(planes, static_cast<int>(in.Byte()) << 8 | in.Byte());
+    const int high = in.Byte();
+    clip.SetCropping(planes, high << 8 | in.Byte());
   }
   if (clip.Validate().empty())
   {

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <utility>
 
@@ -97,12 +98,23 @@ private:
 
 // Clips the ray start + t step, t in [t0, t1], to the grid's box
 // [0, n - 1]^3 (slabs). False when it misses; t0 and t1 narrowed otherwise.
+// Infinite bounds are allowed (an unbounded ray); a non-finite start or step,
+// a NaN bound, or a part that stays infinite (a zero step) misses: a NaN would
+// pass every slab comparison and leave [t0, t1] as long as the caller gave it.
 template <typename Real>
 bool ClipToGrid(const glm::vec<3, Real>& start, const glm::vec<3, Real>& step,
   const int dimensions[3], Real& t0, Real& t1)
 {
+  if (std::isnan(t0) || std::isnan(t1))
+  {
+    return false;
+  }
   for (int a = 0; a < 3; ++a)
   {
+    if (!std::isfinite(start[a]) || !std::isfinite(step[a]))
+    {
+      return false;
+    }
     const Real hi = Real(dimensions[a] - 1);
     if (step[a] == Real(0))
     {
@@ -121,7 +133,7 @@ bool ClipToGrid(const glm::vec<3, Real>& start, const glm::vec<3, Real>& step,
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
   }
-  return t0 < t1;
+  return t0 < t1 && std::isfinite(t0) && std::isfinite(t1);
 }
 
 // The scalar along the ray origin + t direction, t in voxel units: the
