@@ -132,9 +132,31 @@ bool vtkVolvisRawReader::ReadHeader(int& components, int dimensions[3])
     vtkErrorMacro("Cannot read raw volume '" << this->FileName << "': no such file.");
     return false;
   }
-  const unsigned long long expected = static_cast<unsigned long long>(dimensions[0]) *
-    dimensions[1] * dimensions[2] * components *
-    vtkDataArray::GetDataTypeSize(this->DataScalarType);
+  // Each factor has at most 9 digits, so the product can exceed 64 bits: a
+  // wrapped product could match a small (even empty) file and announce an
+  // extent no memory holds.
+  unsigned long long expected = vtkDataArray::GetDataTypeSize(this->DataScalarType);
+  const unsigned long long factors[4] = { static_cast<unsigned long long>(components),
+    static_cast<unsigned long long>(dimensions[0]), static_cast<unsigned long long>(dimensions[1]),
+    static_cast<unsigned long long>(dimensions[2]) };
+  unsigned long long points = 1;
+  for (int i = 0; i < 4; ++i)
+  {
+    if (__builtin_mul_overflow(expected, factors[i], &expected) ||
+      (i > 0 && __builtin_mul_overflow(points, factors[i], &points)))
+    {
+      expected = 0;
+      break;
+    }
+  }
+  if (expected == 0 || points > static_cast<unsigned long long>(VTK_ID_MAX) ||
+    expected > static_cast<unsigned long long>(VTK_ID_MAX))
+  {
+    vtkErrorMacro("The file name '" << this->FileName << "' announces " << components << " x "
+                                    << dimensions[0] << " x " << dimensions[1] << " x "
+                                    << dimensions[2] << " values: more than a volume can hold.");
+    return false;
+  }
   const unsigned long long actual = vtksys::SystemTools::FileLength(this->FileName);
   if (actual != expected)
   {

@@ -145,6 +145,12 @@ int TestVolvisRawReader(int argc, char* argv[])
   avostest::WriteFile(zeroDim, "");
   reader->SetFileName(zeroDim.c_str());
   expectFailure("zero dimension", "does not give the volume's dimensions");
+  // 2^29 x 2^29 x 64 one-byte values are 2^64 bytes: a 64-bit product wraps
+  // to 0 and an empty file would match it.
+  const std::string wrapped = avostest::TempPath(argc, argv, "Wrap.1.536870912x536870912x64.raw");
+  avostest::WriteFile(wrapped, "");
+  reader->SetFileName(wrapped.c_str());
+  expectFailure("size overflow", "more than a volume can hold");
   const std::string truncated = avostest::TempPath(argc, argv, "Short.1.5x4x3.raw");
   avostest::WriteFile(truncated, Bytes(u8).substr(0, 59));
   reader->SetFileName(truncated.c_str());
