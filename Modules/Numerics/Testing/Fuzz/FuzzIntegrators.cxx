@@ -1,5 +1,5 @@
 // Fuzz target for the numerical core (libFuzzer: scripts/fuzz.sh; replayed on
-// its seed corpus by the test FuzzIntegratorsReplay in every build).
+// its corpus by the test Numerics-FuzzIntegratorsReplay in every build).
 //
 // The input bytes choose a small volume (2 to 6 points per axis, any doubles:
 // NaN and infinities included), a transfer function (1 to 8 knots, any
@@ -224,29 +224,3 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   return 0;
 }
-
-#ifdef AVOS_FUZZ_REPLAY
-// Without libFuzzer: runs the target on each file named on the command line
-// (the seed corpus), so the harness and its requirements are checked in every
-// build.
-#include <fstream>
-#include <iterator>
-
-int main(int argc, char* argv[])
-{
-  for (int i = 1; i < argc; ++i)
-  {
-    std::ifstream file(argv[i], std::ios::binary);
-    if (!file)
-    {
-      std::fprintf(stderr, "cannot read %s\n", argv[i]);
-      return EXIT_FAILURE;
-    }
-    const std::vector<char> bytes(
-      (std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
-  }
-  std::printf("replayed %d input(s)\n", argc - 1);
-  return EXIT_SUCCESS;
-}
-#endif
