@@ -22,6 +22,8 @@
 #include "vtkNew.h"
 #include "vtkPlane.h"
 #include "vtkPointData.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
@@ -30,6 +32,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -288,7 +291,8 @@ std::string Parse(int argc, char* argv[], Options& o)
   return std::string();
 }
 
-// Prints the mapper's progress on the terminal once a frame takes a second.
+// Prints the mapper's progress on the terminal once a frame takes a second,
+// with the time left estimated from the share of tiles done so far.
 class ProgressPrinter : public vtkCommand
 {
 public:
@@ -296,7 +300,7 @@ public:
   void Execute(vtkObject*, unsigned long, void* data) override
   {
     // 0 and 1 also come from the pipeline's own updates: only the ray
-    // cast's bands in between are shown. A smaller fraction: a new frame.
+    // cast's reports in between are shown. A smaller fraction: a new frame.
     const double fraction = *static_cast<double*>(data);
     if (fraction < this->Last)
     {
@@ -304,15 +308,18 @@ public:
     }
     this->Last = fraction;
     this->Timer->StopTimer();
+    const double elapsed = this->Timer->GetElapsedTime();
     if (fraction >= 1.0 && this->Printed)
     {
-      std::cerr << "\r" << std::string(24, ' ') << "\r" << std::flush;
+      std::cerr << "\r" << std::string(48, ' ') << "\r" << std::flush;
       this->Printed = false;
     }
-    else if (this->Timer->GetElapsedTime() > 1.0 && fraction > 0.0 && fraction < 1.0)
+    else if (elapsed > 1.0 && fraction > 0.0 && fraction < 1.0)
     {
-      std::cerr << "\rrendering " << std::setw(3) << static_cast<int>(100.0 * fraction) << " %"
-                << std::flush;
+      const double left = elapsed * (1.0 - fraction) / fraction;
+      std::cerr << "\rrendering " << std::setw(3) << static_cast<int>(100.0 * fraction)
+                << " %, about " << std::fixed << std::setprecision(0) << std::ceil(left)
+                << " s left  " << std::defaultfloat << std::setprecision(6) << std::flush;
       this->Printed = true;
     }
   }
@@ -324,6 +331,30 @@ private:
   vtkNew<vtkTimerLog> Timer;
   double Last = 0.0;
   bool Printed = false;
+};
+
+// Ctrl-C: the first one aborts the frame being rendered (the mapper checks
+// the render window about every 0.1 s) and the command exits with status 130
+// without writing anything; a second one kills the process as usual.
+volatile std::sig_atomic_t Interrupted = 0;
+
+void OnInterrupt(int)
+{
+  Interrupted = 1;
+  std::signal(SIGINT, SIG_DFL);
+}
+
+class InterruptCheck : public vtkCommand
+{
+public:
+  static InterruptCheck* New() { return new InterruptCheck; }
+  void Execute(vtkObject* caller, unsigned long, void*) override
+  {
+    if (Interrupted)
+    {
+      static_cast<vtkRenderWindow*>(caller)->SetAbortRender(1);
+    }
+  }
 };
 
 std::string JsonString(const std::string& s)
@@ -397,7 +428,17 @@ int main(int argc, char* argv[])
   }
   app::RenderSession session(reader, property, o.Width, o.Height, o.Azimuth, o.Elevation, o.Zoom);
   vtkNew<ProgressPrinter> progress;
+  vtkNew<InterruptCheck> interruptCheck;
+  session.GetRenderer()->GetRenderWindow()->AddObserver(
+    vtkCommand::AbortCheckEvent, interruptCheck);
+  std::signal(SIGINT, OnInterrupt);
   const std::vector<double> times = session.Render(mapper, o.Frames, progress);
+  std::signal(SIGINT, SIG_DFL);
+  if (Interrupted)
+  {
+    std::cerr << "\ninterrupted: the render was aborted, nothing written\n";
+    return 130;
+  }
   if (times.empty())
   {
     std::cerr << "error: the render failed (see the message above)\n";

@@ -9,8 +9,10 @@ import json
 import math
 import struct
 import os
+import signal
 import subprocess
 import sys
+import time
 
 EXE, DATA, SCRATCH, COMPARE = sys.argv[1:5]
 VOLUME = os.path.join(DATA, "volumes", "Neghip.1.64x64x64.raw")
@@ -245,6 +247,37 @@ check(code != 0, "a failing render fails: " + out)
 check((open(kept_png, "rb").read(), open(kept_json, "rb").read()) == before,
       "a failing render leaves the previous files untouched")
 check(not [f for f in os.listdir(SCRATCH) if ".partial-" in f], "no partial file left behind")
+
+# Ctrl-C: a long render (Riemann at the smallest step, 512x512: minutes here)
+# shows its progress with an estimate of the time left; SIGINT then aborts the
+# frame, nothing is written (the previous files stay) and the status is 130.
+# The seconds from SIGINT to exit are printed, not asserted (no timed test);
+# a mapper that ignored the abort would run into the wait's limit and fail.
+proc = subprocess.Popen([EXE, VOLUME, "--tf", TF, "--size", "512x512", "--method", "riemann",
+                         "--step", "0.001", "--output", kept_png, "--report", kept_json],
+                        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+progress = b""
+while b"s left" not in progress and proc.poll() is None:
+    chunk = os.read(proc.stderr.fileno(), 4096)
+    if not chunk:
+        break
+    progress += chunk
+check(b"rendering" in progress and b"s left" in progress,
+      "a long render shows progress and an estimate: %r" % progress[-200:])
+sent = time.monotonic()
+proc.send_signal(signal.SIGINT)
+try:
+    rest = proc.communicate(timeout=60)[1]
+    print("Ctrl-C to exit: %.3f s" % (time.monotonic() - sent))
+except subprocess.TimeoutExpired:
+    proc.kill()
+    rest = proc.communicate()[1]
+    check(False, "SIGINT stops the render")
+check(proc.returncode == 130 and b"interrupted" in rest,
+      "an interrupted render exits 130 with a message: %d %r" % (proc.returncode, rest[-200:]))
+check((open(kept_png, "rb").read(), open(kept_json, "rb").read()) == before,
+      "an interrupted render leaves the previous files untouched")
+check(not [f for f in os.listdir(SCRATCH) if ".partial-" in f], "no partial file after Ctrl-C")
 code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--output",
                 os.path.join(SCRATCH, "no-such-folder", "x.png"))
 check(code not in (0, -6, -11) and "cannot write" in out, "an unwritable output: " + out)

@@ -25,6 +25,7 @@
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
+#include "avosMonitoredWork.h"
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/Riemann.h"
@@ -348,7 +349,8 @@ class RayCaster
 public:
   RayCaster(const Storage* data, const FrameGeometry& geometry, const TransferFunction& tf,
     const an::EmptySpaceMap<double>* map, const Method& method, float* image,
-    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<RayBuffers>& buffers)
+    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<RayBuffers>& buffers,
+    avos::WorkMonitor& monitor)
     : Volume(data, geometry.Dimensions)
     , Geometry(geometry)
     , TF(tf)
@@ -357,17 +359,19 @@ public:
     , Image(image)
     , Statistics(statistics)
     , Buffers(buffers)
+    , Monitor(monitor)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
   }
 
-  // Tiles [begin, end) in row-major order over the cast rectangle.
+  // Tiles [begin, end) in row-major order over the cast rectangle. Once the
+  // frame is aborted, the remaining tiles are skipped.
   void operator()(vtkIdType begin, vtkIdType end)
   {
     ThreadStatistics& stats = this->Statistics.Local();
     RayBuffers& buffers = this->Buffers.Local();
     const int* rect = this->Geometry.Rect;
-    for (vtkIdType tile = begin; tile < end; ++tile)
+    for (vtkIdType tile = begin; tile < end && !this->Monitor.Aborted(); ++tile)
     {
       const int x0 = rect[0] + static_cast<int>(tile % this->TilesX) * TileSize;
       const int y0 = rect[2] + static_cast<int>(tile / this->TilesX) * TileSize;
@@ -378,12 +382,8 @@ public:
           this->Cast(x, y, stats, buffers);
         }
       }
+      this->Monitor.Finished(1);
     }
-  }
-
-  vtkIdType NumberOfTiles(int rowBegin, int rowEnd) const
-  {
-    return static_cast<vtkIdType>(rowEnd - rowBegin) * this->TilesX;
   }
 
 private:
@@ -423,6 +423,7 @@ private:
   float* Image;
   vtkSMPThreadLocal<ThreadStatistics>& Statistics;
   vtkSMPThreadLocal<RayBuffers>& Buffers;
+  avos::WorkMonitor& Monitor;
   int TilesX = 0;
 };
 
@@ -959,17 +960,26 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     auto cast = [&](auto* data)
     {
       using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      RayCaster<Storage> caster(data, g, internals.TF, map, method, image, statistics, buffers);
-      // Bands of tile rows: progress and abort checks between them.
-      const int tileRows = (g.Rect[3] - g.Rect[2] + TileSize - 1) / TileSize;
-      const int bands = std::max(1, std::min(tileRows, 16));
-      for (int band = 0; band < bands && !aborted; ++band)
+      const vtkIdType tiles =
+        static_cast<vtkIdType>((g.Rect[3] - g.Rect[2] + TileSize - 1) / TileSize) *
+        ((g.Rect[1] - g.Rect[0] + TileSize - 1) / TileSize);
+      avos::WorkMonitor monitor;
+      RayCaster<Storage> caster(
+        data, g, internals.TF, map, method, image, statistics, buffers, monitor);
+      // Progress and the render window's abort check (an interactor's, or
+      // avos-render's Ctrl-C) every WorkMonitor::Interval, whatever the SMP
+      // backend; an abort takes effect within that plus one tile per thread.
+      aborted = !monitor.Run(
+                  tiles, [&] { vtkSMPTools::For(0, tiles, 1, caster); },
+                  [this, ren](double fraction)
+                  {
+                    this->UpdateProgress(fraction);
+                    return ren->GetRenderWindow()->CheckAbortStatus() != 0;
+                  }) ||
+        ren->GetRenderWindow()->CheckAbortStatus() != 0;
+      if (!aborted)
       {
-        const int r0 = tileRows * band / bands;
-        const int r1 = tileRows * (band + 1) / bands;
-        vtkSMPTools::For(caster.NumberOfTiles(0, r0), caster.NumberOfTiles(0, r1), 1, caster);
-        this->UpdateProgress(static_cast<double>(band + 1) / bands);
-        aborted = ren->GetRenderWindow()->CheckAbortStatus() != 0;
+        this->UpdateProgress(1.0);
       }
     };
     if (!map || internals.VisibleBlocks > 0)

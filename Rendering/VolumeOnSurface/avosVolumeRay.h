@@ -5,6 +5,7 @@
 #ifndef avosVolumeRay_h
 #define avosVolumeRay_h
 
+#include "vtkAdaptiveVolumeMapper.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkMatrix4x4.h"
@@ -75,9 +76,17 @@ struct VolumeRaySetup
     {
       return "the volume needs at least 2 points along each axis";
     }
-    if (!(sampleDistance > 0.0) || !(tolerance > 0.0))
+    // The ray caster's step range bounds the work of one ray.
+    const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
+    const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
+    if (!(sampleDistance >= smallest && sampleDistance <= largest))
     {
-      return "the sample distance and the tolerance must be positive";
+      return "the sample distance must be within [" + std::to_string(smallest) + ", " +
+        std::to_string(largest) + "] voxel units, not " + std::to_string(sampleDistance);
+    }
+    if (!(tolerance > 0.0 && tolerance <= 1.0))
+    {
+      return "the tolerance must be within (0, 1], not " + std::to_string(tolerance);
     }
     if (method == RayIntegration::Piecewise)
     {

@@ -16,6 +16,7 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumeProperty.h"
 
+#include "avosMonitoredWork.h"
 #include "avosVolumeRay.h"
 
 #include <algorithm>
@@ -272,12 +273,13 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
     const double sign = this->FlipNormals ? -1.0 : 1.0;
     const int perCone = this->RaysPerCone;
+    avos::WorkMonitor monitor;
     auto previsualize = [&](const auto& caster)
     {
       vtkSMPTools::For(0, n,
         [&](vtkIdType begin, vtkIdType end)
         {
-          for (vtkIdType v = begin; v < end; ++v)
+          for (vtkIdType v = begin; v < end && !monitor.Aborted(); ++v, monitor.Finished(1))
           {
             double p[3], nv[3];
             withNormals->GetPoint(v, p);
@@ -307,9 +309,26 @@ int vtkVolumeOnSurfaceFilter::RequestData(
           }
         });
     };
-    if (!setup.Dispatch(previsualize))
+    // The previsualization is the long part (all cone rays): progress and
+    // AbortExecute are honoured while it runs (within WorkMonitor::Interval
+    // plus one vertex's rays per thread); an aborted run leaves no output.
+    bool dispatched = true;
+    const bool completed = monitor.Run(
+      n, [&] { dispatched = setup.Dispatch(previsualize); },
+      [this](double fraction)
+      {
+        this->UpdateProgress(fraction);
+        return this->GetAbortExecute() != 0;
+      });
+    if (!dispatched)
     {
       vtkErrorMacro(<< "Unsupported scalar type " << setup.Scalars->GetDataTypeAsString() << ".");
+      return 1;
+    }
+    if (!completed)
+    {
+      in.Directions.clear();
+      in.Colors.clear();
       return 1;
     }
     in.Key = key;

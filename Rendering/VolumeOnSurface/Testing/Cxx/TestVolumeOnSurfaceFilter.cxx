@@ -5,6 +5,7 @@
 // that cone is the closest to the vertical observation line. Then: a camera
 // change only reassigns, a transfer-function change casts again, a camera
 // below the surface sees no ray, the memory report, and bad input.
+#include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <vector>
 
 namespace
 {
@@ -160,8 +162,76 @@ int TestVolumeOnSurfaceFilter(int, char*[])
     vos->EmptySpaceSkippingOn();
   }
 
+  // Abort: a long previsualization (10,201 vertices x 12 rays at the
+  // smallest step, about 10^9 samples) stopped by AbortExecute at its first
+  // progress report leaves no output and nothing cached: the next update casts
+  // every ray. Progress comes from the updating thread, in [0, 1).
+  {
+    vtkNew<vtkPlaneSource> fine;
+    fine->SetOrigin(-0.8, -0.8, 0);
+    fine->SetPoint1(0.8, -0.8, 0);
+    fine->SetPoint2(-0.8, 0.8, 0);
+    fine->SetResolution(100, 100);
+    vos->SetInputConnection(fine->GetOutputPort());
+    vos->SetIntegrationMethodToLevoy();
+    vos->SetSampleDistance(0.001);
+    struct Reports
+    {
+      vtkVolumeOnSurfaceFilter* Filter;
+      std::vector<double> Fractions;
+    } reports{ vos, {} };
+    vtkNew<vtkCallbackCommand> onProgress;
+    onProgress->SetClientData(&reports);
+    onProgress->SetCallback(
+      [](vtkObject*, unsigned long, void* client, void* call)
+      {
+        auto* r = static_cast<Reports*>(client);
+        const double fraction = *static_cast<double*>(call);
+        r->Fractions.push_back(fraction);
+        if (fraction > 0.0 && fraction < 1.0)
+        {
+          r->Filter->AbortExecuteOn();
+        }
+      });
+    const unsigned long observer = vos->AddObserver(vtkCommand::ProgressEvent, onProgress);
+    vos->Update();
+    std::cout << "aborted previsualization, progress reports:";
+    for (double f : reports.Fractions)
+    {
+      std::cout << " " << f;
+    }
+    std::cout << "\n";
+    Expect(vos->GetOutput()->GetNumberOfPoints() == 0, "an aborted previsualization: no output");
+    Expect(!reports.Fractions.empty() && reports.Fractions.back() < 0.5,
+      "the previsualization stopped early");
+    vos->RemoveObserver(observer);
+    vos->AbortExecuteOff();
+    vos->SetSampleDistance(0.5);
+    vos->Update();
+    Expect(vos->GetNumberOfRaysCast() == 101 * 101 * 12 &&
+        vos->GetOutput()->GetNumberOfPoints() == 101 * 101,
+      "after an abort, every ray is cast");
+    vos->SetInputConnection(square->GetOutputPort());
+  }
+
   // Bad input.
   avostest::ExpectedErrors errors(vos);
+  for (double step : { 0.0, 1e-4, 2e3, std::nan("") })
+  {
+    vos->SetSampleDistance(step);
+    vos->Update();
+    Expect(errors.Check("sample distance", "the sample distance must be within [0.001"),
+      "a sample distance out of range");
+  }
+  vos->SetSampleDistance(0.5);
+  for (double tolerance : { 0.0, 2.0, std::nan("") })
+  {
+    vos->SetTolerance(tolerance);
+    vos->Update();
+    Expect(
+      errors.Check("tolerance", "the tolerance must be within (0, 1]"), "a tolerance out of range");
+  }
+  vos->SetTolerance(0.01);
   vos->SetRaysPerCone(0);
   vos->Update();
   Expect(errors.Check("zero rays", "one ray per cone"), "zero rays per cone");

@@ -1,0 +1,42 @@
+// Long parallel work that reports progress and can be aborted, whatever the
+// SMP backend: the work runs on a worker thread (which hands it to
+// vtkSMPTools), while the calling thread, which owns VTK's events, the
+// algorithm's progress and the render window, polls every `Interval`.
+#ifndef avosMonitoredWork_h
+#define avosMonitoredWork_h
+
+#include "avosRenderingAdaptiveVolumeModule.h" // For export macro
+#include "vtkType.h"
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+
+namespace avos
+{
+// What the work and the polling thread share: the items done (for progress)
+// and the request to abort. The work adds to Done as it finishes items and
+// stops taking new ones once Aborted() is true.
+class AVOSRENDERINGADAPTIVEVOLUME_EXPORT WorkMonitor
+{
+public:
+  static constexpr std::chrono::milliseconds Interval{ 100 };
+
+  void Finished(vtkIdType items) { this->Done.fetch_add(items, std::memory_order_relaxed); }
+  bool Aborted() const { return this->Abort.load(std::memory_order_relaxed); }
+
+  /// Runs `work` on a worker thread; every Interval until it returns, calls
+  /// `poll` with the share of `total` items done and sets the abort request
+  /// when `poll` returns true. An exception of the work is rethrown here.
+  /// True when the work ran to its end without an abort request. An abort
+  /// takes effect within one Interval plus the item each thread is on.
+  bool Run(
+    vtkIdType total, const std::function<void()>& work, const std::function<bool(double)>& poll);
+
+private:
+  std::atomic<vtkIdType> Done{ 0 };
+  std::atomic<bool> Abort{ false };
+};
+} // namespace avos
+
+#endif
