@@ -264,7 +264,8 @@ std::string Parse(int argc, char* argv[], Options& o)
       int n = 0;
       if (!(in >> n) || !in.eof() || n < (arg == "--frames" ? 1 : 0) || n > 1000)
       {
-        return "option " + arg + " needs a whole number" + (arg == "--frames" ? " >= 1" : "");
+        return "option " + arg + " needs a whole number in [" + (arg == "--frames" ? "1" : "0") +
+          ", 1000]";
       }
       (arg == "--frames" ? o.Frames : o.Threads) = n;
     }

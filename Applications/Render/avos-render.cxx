@@ -46,6 +46,11 @@ namespace
 {
 namespace app = avos::app;
 
+// The ranges of the knobs that multiply work (the steps' range is the mapper's).
+constexpr int MaximumSide = 16384;
+constexpr int MaximumFrames = 100000;
+constexpr int MaximumThreads = 1024;
+
 const char* Usage =
   "usage: avos-render INPUT [--tf FILE.tf1d]\n"
   "         [--method riemann|coupled|decoupled|piecewise|reference|vtk-fixed-point|vtk-gpu]\n"
@@ -61,7 +66,8 @@ const char* Usage =
   "--opacity vtk renders the TF converted to VTK's semantics (alpha = 1 - exp(-tau) per\n"
   "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
   "Steps (--step, --h0, --hmin, --hmax) are in voxel units within [0.001, 1000]; --threads 0\n"
-  "(the default) uses every core; --frames and --threads at most 100000.\n"
+  "(the default) uses every core, at most 1024; --frames at most 100000; --size at most\n"
+  "16384x16384 (OpenGL's largest window; the float image then takes 4 GiB).\n"
   "--compare: per RGBA channel, the percentage of pixels whose error against REF.exr (a\n"
   "float image of the same size, e.g. --method reference) exceeds 0.01, 0.005, 0.001, over\n"
   "the pixels where either image is not transparent; in the report too.\n"
@@ -158,10 +164,13 @@ std::string Parse(int argc, char* argv[], Options& o)
     }
     else if (arg == "--frames" || arg == "--threads")
     {
-      if (!ParseNumber(value, number) || number != std::floor(number) || number < 0 ||
-        (arg == "--frames" && number < 1) || number > 100000)
+      const bool frames = arg == "--frames";
+      const double lowest = frames ? 1 : 0, highest = frames ? MaximumFrames : MaximumThreads;
+      if (!ParseNumber(value, number) || number != std::floor(number) || number < lowest ||
+        number > highest)
       {
-        return "option " + arg + " needs a whole number" + (arg == "--frames" ? " >= 1" : "");
+        return "option " + arg + " needs a whole number in [" + std::to_string(int(lowest)) + ", " +
+          std::to_string(int(highest)) + "]";
       }
       (arg == "--frames" ? o.Frames : o.Settings.Threads) = static_cast<int>(number);
     }
@@ -170,9 +179,10 @@ std::string Parse(int argc, char* argv[], Options& o)
       char x = 0;
       std::istringstream in(value);
       if (!(in >> o.Width >> x >> o.Height) || x != 'x' || o.Width < 1 || o.Height < 1 ||
-        o.Width > 16384 || o.Height > 16384)
+        o.Width > MaximumSide || o.Height > MaximumSide)
       {
-        return "--size needs WxH, e.g. 800x600";
+        return "--size needs WxH, each within [1, " + std::to_string(MaximumSide) +
+          "], e.g. 800x600";
       }
     }
     else if (arg == "--tf")
@@ -283,6 +293,10 @@ std::string Parse(int argc, char* argv[], Options& o)
               << ", " << vtkAdaptiveVolumeMapper::GetLargestStep() << "] voxel units";
       return problem.str();
     }
+  }
+  if (!(o.Settings.HMin <= o.Settings.HMax))
+  {
+    return "--hmin must not exceed --hmax";
   }
   if (!(o.Settings.Tolerance > 0.0 && o.Settings.Tolerance <= 1.0))
   {
