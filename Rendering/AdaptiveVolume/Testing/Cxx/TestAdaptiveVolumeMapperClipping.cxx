@@ -22,11 +22,13 @@
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTransform.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 #include "ObliqueScene.h"
 #include "Oracles.h"
+#include "avosTestHelpers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -195,6 +197,39 @@ int TestAdaptiveVolumeMapperClipping(int, char*[])
       std::cerr << "FAIL " << run.Name << ": max error " << maxError << "\n";
       ++failures;
     }
+  }
+
+  // What the mapper cannot cut exactly is refused, nothing drawn: a plane with
+  // a transform, cropping of a volume with a direction matrix.
+  {
+    avostest::ExpectedErrors errors(mapper);
+    auto refused = [&](const char* what, const char* message)
+    {
+      window->Render();
+      if (!errors.Check(what, message) || mapper->GetRenderedImage()->GetNumberOfPoints() != 0)
+      {
+        ++failures;
+      }
+    };
+    vtkNew<vtkPlane> moved;
+    moved->SetNormal(0, 0, 1);
+    vtkNew<vtkTransform> shift;
+    shift->Translate(0, 0, 0.5);
+    moved->SetTransform(shift);
+    mapper->RemoveAllClippingPlanes();
+    mapper->AddClippingPlane(moved);
+    refused("transformed plane", "Clipping planes with a transform are not supported");
+    mapper->RemoveAllClippingPlanes();
+    source->Update();
+    vtkNew<vtkImageData> turned;
+    turned->DeepCopy(source->GetOutput());
+    turned->SetDirectionMatrix(0, -1, 0, 1, 0, 0, 0, 0, 1);
+    mapper->SetInputData(turned);
+    mapper->SetCropping(1);
+    refused("cropping a turned volume",
+      "Cropping needs an input with positive spacing and no "
+      "direction matrix");
+    mapper->SetInputConnection(source->GetOutputPort());
   }
 
   // VTK's fixed-point mapper with the same plane and cropping covers the same

@@ -232,6 +232,24 @@ int TestVolumeOnSurfaceFilter(int, char*[])
       errors.Check("tolerance", "the tolerance must be within (0, 1]"), "a tolerance out of range");
   }
   vos->SetTolerance(0.01);
+  vos->SetCamera(nullptr);
+  vos->Update();
+  Expect(errors.Check("no camera", "No camera to assign the colours for"), "no camera");
+  vos->SetCamera(camera);
+  vos->SetVolumeProperty(nullptr);
+  vos->Update();
+  Expect(errors.Check("no property", "No volume property"), "no volume property");
+  vos->SetVolumeProperty(property);
+  vos->AddOpeningAngle(95.0);
+  vos->Update();
+  Expect(errors.Check("angle", "Opening angles must be in (0, 90] degrees"), "a 95-degree cone");
+  vos->RemoveAllOpeningAngles();
+  vos->Update();
+  Expect(errors.Check("no cones", "at least one cone and one ray per cone"), "no cones");
+  for (double angle : { 20.0, 45.0, 70.0 }) // the defaults
+  {
+    vos->AddOpeningAngle(angle);
+  }
   vos->SetRaysPerCone(0);
   vos->Update();
   Expect(errors.Check("zero rays", "one ray per cone"), "zero rays per cone");
