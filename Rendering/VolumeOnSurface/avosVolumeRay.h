@@ -25,8 +25,10 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -157,9 +159,13 @@ public:
   // RGBA of the volume between the vertex and the volume's boundary along
   // `direction` (a unit world vector), at most `maximumLength` world units
   // long (the eye's distance, for an eye inside the volume).
-  glm::dvec4 Cast(const glm::dvec3& vertex, const glm::dvec3& direction,
+  // A non-empty Error (an overflow: scalars or extinctions beyond double's
+  // range along the ray) comes with a zero RGBA; the classes refuse the
+  // frame or the previsualization then (RayFailures).
+  avos::numerics::RayResult<double> Cast(const glm::dvec3& vertex, const glm::dvec3& direction,
     double maximumLength = std::numeric_limits<double>::infinity()) const
   {
+    avos::numerics::RayResult<double> none;
     const double* m = this->Setup.WorldToGrid;
     auto toGrid = [m](const glm::dvec3& p, double w)
     {
@@ -172,7 +178,7 @@ public:
     double t0 = 0.0, t1 = maximumLength / this->Setup.Voxel;
     if (!avos::numerics::ClipToGrid(start, step, this->Setup.Dimensions, t0, t1))
     {
-      return glm::dvec4(0.0);
+      return none;
     }
     const double D = t1 - t0;
     const glm::dvec3 origin = start + t1 * step;
@@ -187,7 +193,7 @@ public:
       this->Setup.Map->Segments(origin, -step, D, 1e-6, segments);
       if (segments.empty())
       {
-        return glm::dvec4(0.0);
+        return none;
       }
     }
     else
@@ -197,14 +203,12 @@ public:
     if (this->Setup.Method == RayIntegration::Adaptive)
     {
       return avos::numerics::IntegrateAdaptive(
-        field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings)
-        .RGBA;
+        field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings);
     }
     if (this->Setup.Method == RayIntegration::Piecewise)
     {
       return avos::numerics::IntegratePiecewise(this->Volume, origin, -step, segments.data(),
-        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance)
-        .RGBA;
+        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance);
     }
     if (this->Setup.Engine)
     {
@@ -214,17 +218,44 @@ public:
       avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &back.x, D,
         this->Setup.SampleDistance, segments.data(), segments.size(),
         0.2 * this->Setup.Settings.Tolerance, out);
-      return glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+      none.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+      return none;
     }
     return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
       avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),
-      0.2 * this->Setup.Settings.Tolerance)
-      .RGBA;
+      0.2 * this->Setup.Settings.Tolerance);
   }
 
 private:
   const VolumeRaySetup& Setup;
   const avos::numerics::TrilinearVolume<double, Storage> Volume;
+};
+
+// The rays of one execution that could not be integrated, counted across
+// threads, with the first one's reason for the error message.
+class RayFailures
+{
+public:
+  void Add(const std::string& error)
+  {
+    if (this->Count.fetch_add(1, std::memory_order_relaxed) == 0)
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->First = error;
+    }
+  }
+  // After the threads have joined.
+  vtkIdType GetCount() const { return this->Count.load(); }
+  std::string GetMessage() const
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    return std::to_string(this->Count.load()) + " ray(s) could not be integrated: " + this->First;
+  }
+
+private:
+  std::atomic<vtkIdType> Count{ 0 };
+  mutable std::mutex Mutex;
+  std::string First;
 };
 
 // The volume's empty-space map, kept across executions by both classes: the

@@ -274,6 +274,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     const double sign = this->FlipNormals ? -1.0 : 1.0;
     const int perCone = this->RaysPerCone;
     avos::WorkMonitor monitor;
+    avos::RayFailures failures;
     auto previsualize = [&](const auto& caster)
     {
       vtkSMPTools::For(0, n,
@@ -303,7 +304,12 @@ int vtkVolumeOnSurfaceFilter::RequestData(
                 const glm::dvec3 d = std::cos(theta) * normal +
                   std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * w);
                 in.Directions[r] = glm::fvec3(d);
-                in.Colors[r] = glm::fvec4(caster.Cast(glm::dvec3(p[0], p[1], p[2]), d));
+                const auto ray = caster.Cast(glm::dvec3(p[0], p[1], p[2]), d);
+                if (!ray.Error.empty())
+                {
+                  failures.Add(ray.Error);
+                }
+                in.Colors[r] = glm::fvec4(ray.RGBA);
               }
             }
           }
@@ -325,7 +331,11 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       vtkErrorMacro(<< "Unsupported scalar type " << setup.Scalars->GetDataTypeAsString() << ".");
       return 1;
     }
-    if (!completed)
+    if (failures.GetCount() > 0)
+    {
+      vtkErrorMacro(<< failures.GetMessage() << ".");
+    }
+    if (!completed || failures.GetCount() > 0)
     {
       in.Directions.clear();
       in.Colors.clear();

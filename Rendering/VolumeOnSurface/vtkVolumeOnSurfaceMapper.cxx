@@ -313,6 +313,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     vtkDataArray* normals = s->GetPointData()->GetNormals();
     const double* m = projection->GetData();
     std::atomic<vtkIdType> rays(0), visible(0), reused(0);
+    avos::RayFailures failures;
     auto colour = [&](const auto& caster)
     {
       vtkSMPTools::For(0, s->GetNumberOfPoints(),
@@ -344,7 +345,13 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
               continue;
             }
             const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(eye - point);
-            in.FullColors[full] = avos::ToBytes(caster.Cast(point, line, reach));
+            const auto ray = caster.Cast(point, line, reach);
+            if (!ray.Error.empty())
+            {
+              failures.Add(ray.Error);
+              continue;
+            }
+            in.FullColors[full] = avos::ToBytes(ray.RGBA);
             in.Known[full] = 1;
             ++localRays;
           }
@@ -356,6 +363,13 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     if (!setup.Dispatch(colour))
     {
       vtkErrorMacro(<< "Unsupported scalar type.");
+      return;
+    }
+    if (failures.GetCount() > 0)
+    {
+      // No silent transparent vertices: nothing is drawn.
+      vtkErrorMacro(<< failures.GetMessage() << ".");
+      in.HaveKey = false;
       return;
     }
     this->NumberOfRaysCast = rays;

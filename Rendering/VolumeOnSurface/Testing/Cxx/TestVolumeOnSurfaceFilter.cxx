@@ -9,6 +9,7 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -263,6 +264,40 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   vos->Update();
   Expect(errors.Check("multi-component", "single-component"), "multi-component volume");
   vos->SetInputData(1, volume);
+
+  // Scalars at the edge of double's range overflow between grid points: the
+  // piecewise rays cannot be integrated, and the filter says so instead of
+  // colouring the vertices transparent. (The adaptive and Levoy rays treat a
+  // sample that is not finite as transparent, as they treat NaN data.)
+  {
+    vtkNew<vtkImageData> extreme;
+    extreme->DeepCopy(volume);
+    vtkNew<vtkDoubleArray> values;
+    values->SetNumberOfTuples(extreme->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i)
+    {
+      values->SetValue(i, i % 2 ? 1.5e308 : -1.5e308);
+    }
+    extreme->GetPointData()->SetScalars(values);
+    vtkNew<vtkPiecewiseFunction> flat;
+    flat->AddPoint(-1.7e308, tau);
+    flat->AddPoint(1.7e308, tau);
+    vtkNew<vtkColorTransferFunction> grey;
+    grey->AddRGBPoint(-1.7e308, 0.5, 0.5, 0.5);
+    grey->AddRGBPoint(1.7e308, 0.5, 0.5, 0.5);
+    vtkNew<vtkVolumeProperty> wide;
+    wide->SetColor(grey);
+    wide->SetScalarOpacity(flat);
+    vos->SetInputData(1, extreme);
+    vos->SetVolumeProperty(wide);
+    vos->SetIntegrationMethodToPiecewise();
+    vos->Update();
+    Expect(errors.Check("overflow", "ray(s) could not be integrated"), "overflowing rays");
+    Expect(vos->GetOutput()->GetNumberOfPoints() == 0, "no output from overflowing rays");
+    vos->SetInputData(1, volume);
+    vos->SetVolumeProperty(property);
+    vos->SetIntegrationMethodToLevoy();
+  }
 
   vtkNew<vtkPlaneSource> far;
   far->SetCenter(10, 10, 10);

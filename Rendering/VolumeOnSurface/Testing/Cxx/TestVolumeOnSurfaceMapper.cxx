@@ -9,6 +9,7 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -225,6 +226,35 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   window->Render();
   Expect(errors.Check("two components", "single-component"), "multi-component volume");
   mapper->SetVolumeData(volume);
+  // Scalars at the edge of double's range overflow between grid points: the
+  // piecewise rays cannot be integrated and the frame says so (nothing drawn)
+  // instead of colouring the vertices transparent.
+  {
+    vtkNew<vtkImageData> extreme;
+    extreme->DeepCopy(volume);
+    vtkNew<vtkDoubleArray> values;
+    values->SetNumberOfTuples(extreme->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i)
+    {
+      values->SetValue(i, i % 2 ? 1.5e308 : -1.5e308);
+    }
+    extreme->GetPointData()->SetScalars(values);
+    vtkNew<vtkPiecewiseFunction> flat;
+    flat->AddPoint(-1.7e308, tau);
+    flat->AddPoint(1.7e308, tau);
+    vtkNew<vtkVolumeProperty> wide;
+    wide->SetColor(property->GetRGBTransferFunction());
+    wide->SetScalarOpacity(flat);
+    mapper->SetVolumeData(extreme);
+    mapper->SetVolumeProperty(wide);
+    mapper->SetIntegrationMethodToPiecewise();
+    camera->Azimuth(1);
+    window->Render();
+    Expect(errors.Check("overflow", "ray(s) could not be integrated"), "overflowing rays");
+    mapper->SetVolumeData(volume);
+    mapper->SetVolumeProperty(property);
+    mapper->SetIntegrationMethodToLevoy();
+  }
   vtkNew<vtkPolyData> empty;
   mapper->SetInputData(empty);
   window->Render(); // the renderer skips an actor without bounds: ask directly
