@@ -94,7 +94,52 @@ std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf)
   }
   return std::string();
 }
+
+// True when the gradient opacity changes anything: enabled and not the
+// constant 1 that VTK creates on first access (VTK's GPU mapper accesses it).
+bool UsesGradientOpacity(vtkVolumeProperty* property)
+{
+  if (property->GetDisableGradientOpacity(0) || !property->HasGradientOpacity(0))
+  {
+    return false;
+  }
+  vtkPiecewiseFunction* f = property->GetStoredGradientOpacity(0);
+  for (int i = 0; f && i < f->GetSize(); ++i)
+  {
+    double node[4];
+    f->GetNodeValue(i, node);
+    if (node[1] != 1.0)
+    {
+      return true;
+    }
+  }
+  return false;
+}
 } // namespace
+
+std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property)
+{
+  if (!property)
+  {
+    return std::string();
+  }
+  if (property->GetInterpolationType() != VTK_LINEAR_INTERPOLATION)
+  {
+    return "Only trilinear interpolation is supported (the integrals are those of the trilinear "
+           "field): call the property's SetInterpolationTypeToLinear()";
+  }
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D ||
+    UsesGradientOpacity(property))
+  {
+    return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
+           "opacity, no 2D transfer function";
+  }
+  if (property->GetShade(0))
+  {
+    return "Shading is not supported (emission-absorption model): turn the property's Shade off";
+  }
+  return std::string();
+}
 
 std::string avos::TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel, TransferFunction& tf)

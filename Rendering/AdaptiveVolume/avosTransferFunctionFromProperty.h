@@ -27,6 +27,15 @@ namespace avos
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel,
   avos::numerics::TransferFunction<double>& tf);
+
+/**
+ * Empty, or a sentence (no final stop) naming the property's settings that the ray
+ * integrals do not honour (never ignored): nearest interpolation, a
+ * gradient opacity that changes anything (VTK's default constant 1 is
+ * accepted), a 2D transfer function, shading.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
+  vtkVolumeProperty* property);
 }
 
 #endif

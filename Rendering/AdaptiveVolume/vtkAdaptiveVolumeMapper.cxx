@@ -105,28 +105,6 @@ glm::dvec3 ToPoint(const glm::dvec4& p)
   return glm::dvec3(p) / p.w;
 }
 
-// True when the property's gradient opacity changes anything: enabled and
-// not the constant 1 that VTK creates on first access (VTK's GPU mapper
-// accesses it).
-bool UsesGradientOpacity(vtkVolumeProperty* property)
-{
-  if (property->GetDisableGradientOpacity(0) || !property->HasGradientOpacity(0))
-  {
-    return false;
-  }
-  vtkPiecewiseFunction* f = property->GetStoredGradientOpacity(0);
-  for (int i = 0; f && i < f->GetSize(); ++i)
-  {
-    double node[4];
-    f->GetNodeValue(i, node);
-    if (node[1] != 1.0)
-    {
-      return true;
-    }
-  }
-  return false;
-}
-
 // The pixel's ray in grid coordinates, t in voxel units from the volume box's
 // entry, D the length inside the box (up to the depth buffer). False: miss.
 bool PixelRay(
@@ -733,23 +711,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // Property -> transfer function and block visibility.
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  if (property->GetInterpolationType() != VTK_LINEAR_INTERPOLATION)
+  const std::string unsupported = avos::UnsupportedPropertySettings(property);
+  if (!unsupported.empty())
   {
-    vtkErrorMacro(<< "Only trilinear interpolation is supported (the integrals are those of the "
-                     "trilinear field): call the property's SetInterpolationTypeToLinear().");
-    return fail();
-  }
-  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D ||
-    UsesGradientOpacity(property))
-  {
-    vtkErrorMacro(<< "Only one-dimensional transfer functions of the scalar are supported: no "
-                     "gradient opacity, no 2D transfer function.");
-    return fail();
-  }
-  if (property->GetShade(0))
-  {
-    vtkErrorMacro(<< "Shading is not supported (emission-absorption model): turn the property's "
-                     "Shade off.");
+    vtkErrorMacro(<< unsupported << ".");
     return fail();
   }
   if (property->GetMTime() != internals.PropertyTime ||

@@ -106,6 +106,11 @@ struct VolumeRaySetup
     {
       return "the volume's spacing must be non-zero and finite";
     }
+    const std::string unsupported = UnsupportedPropertySettings(property);
+    if (!unsupported.empty())
+    {
+      return unsupported;
+    }
     const std::string error =
       TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF);
     if (!error.empty())

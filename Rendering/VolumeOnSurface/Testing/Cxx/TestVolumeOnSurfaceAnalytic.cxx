@@ -21,6 +21,7 @@ int TestVolumeOnSurfaceAnalytic(int argc, char* argv[])
   opacity->AddPoint(0.3, 0.05);
   opacity->AddPoint(1.0, 0.3);
   vtkNew<vtkVolumeProperty> property;
+  property->SetInterpolationTypeToLinear();
   property->SetColor(color);
   property->SetScalarOpacity(opacity);
   property->SetScalarOpacityUnitDistance(0.05); // one voxel

@@ -50,6 +50,7 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   opacity->AddPoint(0, tau);
   opacity->AddPoint(255, tau);
   vtkNew<vtkVolumeProperty> property;
+  property->SetInterpolationTypeToLinear();
   property->SetColor(ctf);
   property->SetScalarOpacity(opacity);
 
@@ -233,6 +234,23 @@ int TestVolumeOnSurfaceFilter(int, char*[])
       errors.Check("tolerance", "the tolerance must be within (0, 1]"), "a tolerance out of range");
   }
   vos->SetTolerance(0.01);
+  // Property settings the rays do not honour are refused, never ignored.
+  property->SetInterpolationTypeToNearest();
+  vos->Update();
+  Expect(errors.Check("nearest", "Only trilinear interpolation is supported"),
+    "nearest interpolation refused");
+  property->SetInterpolationTypeToLinear();
+  property->ShadeOn();
+  vos->Update();
+  Expect(errors.Check("shading", "Shading is not supported"), "shading refused");
+  property->ShadeOff();
+  vtkNew<vtkPiecewiseFunction> gradientOpacity;
+  gradientOpacity->AddPoint(0, 0.0);
+  gradientOpacity->AddPoint(10, 1.0);
+  property->SetGradientOpacity(gradientOpacity);
+  vos->Update();
+  Expect(errors.Check("gradient opacity", "no gradient opacity"), "gradient opacity refused");
+  property->DisableGradientOpacityOn();
   vos->SetCamera(nullptr);
   vos->Update();
   Expect(errors.Check("no camera", "No camera to assign the colours for"), "no camera");
@@ -286,6 +304,7 @@ int TestVolumeOnSurfaceFilter(int, char*[])
     grey->AddRGBPoint(-1.7e308, 0.5, 0.5, 0.5);
     grey->AddRGBPoint(1.7e308, 0.5, 0.5, 0.5);
     vtkNew<vtkVolumeProperty> wide;
+    wide->SetInterpolationTypeToLinear();
     wide->SetColor(grey);
     wide->SetScalarOpacity(flat);
     vos->SetInputData(1, extreme);

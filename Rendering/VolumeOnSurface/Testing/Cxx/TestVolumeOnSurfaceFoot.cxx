@@ -35,6 +35,7 @@ int TestVolumeOnSurfaceFoot(int argc, char* argv[])
   tf->SetOpacityModelToVTK();
   tf->SetUnitDistance(4.0); // one voxel of the coarse grid
   vtkNew<vtkVolumeProperty> property;
+  property->SetInterpolationTypeToLinear();
   if (!tf->FillVolumeProperty(property))
   {
     return EXIT_FAILURE;

@@ -42,6 +42,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   vtkNew<vtkPiecewiseFunction> opacity;
   opacity->AddPoint(0, tau);
   vtkNew<vtkVolumeProperty> property;
+  property->SetInterpolationTypeToLinear();
   property->SetColor(ctf);
   property->SetScalarOpacity(opacity);
 
@@ -171,6 +172,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     ramp->AddPoint(100, 0);
     ramp->AddPoint(300, tau);
     vtkNew<vtkVolumeProperty> blobProperty;
+    blobProperty->SetInterpolationTypeToLinear();
     blobProperty->SetColor(ctf);
     blobProperty->SetScalarOpacity(ramp);
     mapper->SetVolumeData(blob);
@@ -243,6 +245,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     flat->AddPoint(-1.7e308, tau);
     flat->AddPoint(1.7e308, tau);
     vtkNew<vtkVolumeProperty> wide;
+    wide->SetInterpolationTypeToLinear();
     wide->SetColor(property->GetRGBTransferFunction());
     wide->SetScalarOpacity(flat);
     mapper->SetVolumeData(extreme);

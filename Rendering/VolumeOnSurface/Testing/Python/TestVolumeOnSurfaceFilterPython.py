@@ -28,6 +28,7 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         opacity.AddPoint(0.0, 0.1)
         opacity.AddPoint(2.0, 0.1)
         prop = vtkVolumeProperty()
+        prop.SetInterpolationTypeToLinear()
         prop.SetColor(color)
         prop.SetScalarOpacity(opacity)
         camera = vtkCamera()
