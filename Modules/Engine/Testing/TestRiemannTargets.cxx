@@ -72,11 +72,21 @@ Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::T
     scene.Case.TF.SetOpacityModel(an::OpacityModel::Alpha, 0.7);
     scene.Case.TF.Finalize();
   }
-  scene.Floats.assign(scene.Case.Data.begin(), scene.Case.Data.end());
-  scene.Bytes.assign(scene.Case.Data.begin(), scene.Case.Data.end());
-  scene.Words.assign(scene.Case.Data.begin(), scene.Case.Data.end());
-  scene.Bytes.resize(scene.Bytes.size() + ae::Volume::Padding, 0);
-  scene.Words.resize(scene.Words.size() + ae::Volume::Padding, 0);
+  // Only the storage of the scene's type: 16-bit values do not fit a byte
+  // (converting them would be undefined behaviour, found by clang's UBSan).
+  switch (type)
+  {
+    case ae::Volume::Type::UInt8:
+      scene.Bytes.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+      scene.Bytes.resize(scene.Bytes.size() + ae::Volume::Padding, 0);
+      break;
+    case ae::Volume::Type::UInt16:
+      scene.Words.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+      scene.Words.resize(scene.Words.size() + ae::Volume::Padding, 0);
+      break;
+    default:
+      scene.Floats.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+  }
   return scene;
 }
 
