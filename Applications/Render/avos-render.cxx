@@ -59,7 +59,7 @@ const char* Usage =
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
   "         [--compare REF.exr] [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]\n"
   "         [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]\n"
-  "         [--blend composite|maximum|minimum]\n"
+  "         [--blend composite|maximum|minimum] [--shade]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
@@ -76,7 +76,10 @@ const char* Usage =
   "--crop: VTK's cropping region planes (the volume's coordinates); --crop-mode: which\n"
   "of the 27 regions are kept (default subvolume: the box between the planes).\n"
   "--blend maximum|minimum: the intensity projections (exact in avos's methods: the\n"
-  "extremum of the trilinear field along the ray, not of samples).\n";
+  "extremum of the trilinear field along the ray, not of samples).\n"
+  "--shade: gradient shading (VTK's ambient 0.1, diffuse 0.7, specular 0.2, power 10,\n"
+  "the headlight), with the analytic gradient of the trilinear field in avos's methods\n"
+  "(riemann, coupled, decoupled, reference; the piecewise method refuses it).\n";
 
 struct Options
 {
@@ -97,6 +100,7 @@ struct Options
   std::vector<double> Crop;              // empty: no cropping
   int CropFlags = VTK_CROP_SUBVOLUME;
   int Blend = vtkVolumeMapper::COMPOSITE_BLEND;
+  bool Shade = false;
 };
 
 // "a,b,c" -> numbers; false unless exactly `count` finite numbers.
@@ -146,6 +150,11 @@ std::string Parse(int argc, char* argv[], Options& o)
         return "more than one input: '" + o.Input + "' and '" + arg + "'";
       }
       o.Input = arg;
+      continue;
+    }
+    if (arg == "--shade")
+    {
+      o.Shade = true;
       continue;
     }
     if (i + 1 >= argc)
@@ -424,6 +433,8 @@ int main(int argc, char* argv[])
     app::DefaultTransferFunction(image->GetPointData()->GetScalars()->GetRange(0), voxel, property);
   }
 
+  property->SetShade(o.Shade);
+
   vtkSmartPointer<vtkVolumeMapper> mapper = app::MakeMapper(o.Settings, voxel);
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
   mapper->SetBlendMode(o.Blend);
@@ -521,6 +532,7 @@ int main(int argc, char* argv[])
            << "  \"transfer_function\": " << (o.TF.empty() ? "null" : JsonString(o.TF)) << ",\n"
            << "  \"method\": " << JsonString(o.Settings.Method) << ",\n"
            << "  \"opacity_model\": " << JsonString(o.Opacity) << ",\n"
+           << "  \"shade\": " << (o.Shade ? "true" : "false") << ",\n"
            << "  \"parameters\": {\"tolerance\": " << o.Settings.Tolerance
            << ", \"step\": " << o.Settings.Step << ", \"h0\": " << o.Settings.H0
            << ", \"hmin\": " << o.Settings.HMin << ", \"hmax\": " << o.Settings.HMax

@@ -234,6 +234,15 @@ print("mean alpha: maximum %.5f (fixed point %.5f), minimum %.5f" % (mip, fixed_
 check(mip > 0 and 0 <= minip < mip, "a maximum projection shows, the minimum below it")
 check(abs(fixed_mip - mip) < 0.05 * mip, "the fixed-point maximum agrees within 5 %")
 
+# Shading: the coupled method lights the emission (the colours change, the
+# report says so); the piecewise method refuses it with a message.
+shaded_report = os.path.join(SCRATCH, "shaded.json")
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "coupled", "--shade",
+                "--report", shaded_report)
+check(code == 0 and json.load(open(shaded_report))["shade"] is True, "--shade renders: " + out)
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise", "--shade")
+check(code not in (0, -6, -11) and "Cannot shade" in out, "piecewise refuses --shade: " + out)
+
 # Outputs are written whole or not at all: a failing run leaves the previous
 # image and report as they were, and no partial file stays behind.
 kept_png = os.path.join(SCRATCH, "kept.png")

@@ -117,7 +117,7 @@ bool UsesGradientOpacity(vtkVolumeProperty* property)
 }
 } // namespace
 
-std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property)
+std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, bool shading)
 {
   if (!property)
   {
@@ -134,7 +134,7 @@ std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property)
     return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
            "opacity, no 2D transfer function";
   }
-  if (property->GetShade(0))
+  if (property->GetShade(0) && !shading)
   {
     return "Shading is not supported (emission-absorption model): turn the property's Shade off";
   }

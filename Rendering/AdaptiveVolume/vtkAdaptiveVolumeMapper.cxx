@@ -5,6 +5,8 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
@@ -34,6 +36,7 @@
 #include "avos/numerics/Extremum.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/Shading.h"
 #include "avos/numerics/TransferFunction.h"
 #include "avos/numerics/Volume.h"
 
@@ -150,7 +153,98 @@ struct Method
   // RIEMANN (null: the scalar sum).
   const avos::engine::Volume* EngineVolume = nullptr;
   const avos::engine::TransferTable* EngineTable = nullptr;
+  // Gradient shading of the emission (null: none), with the grid-to-world
+  // matrix's linear part (ray directions to world) and the normal matrix
+  // (grid gradients to world).
+  const an::ShadingModel<double>* Shading = nullptr;
+  glm::dmat3 GridToWorld{ 1.0 };
+  glm::dmat3 NormalMatrix{ 1.0 };
 };
+
+// The property's shading coefficients and the renderer's switched-on lights
+// (directional: from the focal point towards the position, each light's
+// colours times its intensity), and the same as numbers in `key`; empty, or
+// why the frame cannot be shaded.
+std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int blend, int method,
+  an::ShadingModel<double>& model, std::vector<double>& key)
+{
+  if (blend != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return "shading applies to the composite blend mode only, not to projections; turn the "
+           "property's Shade off";
+  }
+  if (method == vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE)
+  {
+    return "the piecewise method's closed forms need an emission that depends on the scalar "
+           "alone; shade with the Riemann, coupled, decoupled or reference method";
+  }
+  model = an::ShadingModel<double>();
+  model.Ambient = property->GetAmbient(0);
+  model.Diffuse = property->GetDiffuse(0);
+  model.Specular = property->GetSpecular(0);
+  model.SpecularPower = property->GetSpecularPower(0);
+  model.TwoSided = ren->GetTwoSidedLighting() != 0;
+  vtkLightCollection* lights = ren->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (!light->GetSwitch())
+    {
+      continue;
+    }
+    if (light->GetPositional())
+    {
+      return "positional lights are not supported, only directional ones";
+    }
+    double position[3], focal[3];
+    light->GetTransformedPosition(position);
+    light->GetTransformedFocalPoint(focal);
+    glm::dvec3 direction(position[0] - focal[0], position[1] - focal[1], position[2] - focal[2]);
+    const double length = glm::length(direction);
+    if (!(length > 0.0) || !std::isfinite(length))
+    {
+      return "a light's position and focal point coincide";
+    }
+    const double intensity = light->GetIntensity();
+    const double* diffuse = light->GetDiffuseColor();
+    const double* specular = light->GetSpecularColor();
+    model.Lights.push_back(
+      { direction / length, intensity * glm::dvec3(diffuse[0], diffuse[1], diffuse[2]),
+        intensity * glm::dvec3(specular[0], specular[1], specular[2]) });
+  }
+  const std::string invalid = model.Validate();
+  if (!invalid.empty())
+  {
+    return invalid;
+  }
+  key = { model.Ambient, model.Diffuse, model.Specular, model.SpecularPower,
+    model.TwoSided ? 1.0 : 0.0 };
+  for (const auto& light : model.Lights)
+  {
+    for (const glm::dvec3& v : { light.Direction, light.Diffuse, light.Specular })
+    {
+      key.insert(key.end(), { v.x, v.y, v.z });
+    }
+  }
+  return std::string();
+}
+
+// Calls f(field) with the ray start + t direction's field (grid coordinates):
+// shaded when the method shades, the scalar alone otherwise.
+template <typename Storage, typename F>
+an::RayResult<double> WithField(const an::TrilinearVolume<double, Storage>& volume,
+  const Method& method, const glm::dvec3& start, const glm::dvec3& direction, F&& f)
+{
+  using Volume = an::TrilinearVolume<double, Storage>;
+  if (method.Shading)
+  {
+    const glm::dvec3 toViewer = -glm::normalize(method.GridToWorld * direction);
+    return f(an::ShadedRayField<double, Volume>{
+      volume, start, direction, method.NormalMatrix, toViewer, *method.Shading });
+  }
+  return f(an::RayField<double, Volume>{ volume, start, direction });
+}
 
 // The Riemann sum over the kept parts of a ray, each its own ray from its
 // entry (as VTK's mappers start a clipped ray at the plane), front to back;
@@ -200,10 +294,13 @@ void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const Tr
     }
     else
     {
-      const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ volume, start,
-        direction };
-      const an::RayResult<double> r = an::IntegrateRiemann(field, tf, D, method.SampleDistance,
-        an::RiemannForm::Exponential, buffers.Clipped.data(), buffers.Clipped.size(), bound, steps);
+      const an::RayResult<double> r = WithField(volume, method, start, direction,
+        [&](const auto& field)
+        {
+          return an::IntegrateRiemann(field, tf, D, method.SampleDistance,
+            an::RiemannForm::Exponential, buffers.Clipped.data(), buffers.Clipped.size(), bound,
+            steps);
+        });
       if (!r.Error.empty())
       {
         result.Error = r.Error;
@@ -284,8 +381,6 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     result.Statistics.Samples = e.Cells;
     return true;
   }
-  const an::RayField<double, an::TrilinearVolume<double, Storage>> field{ volume, origin,
-    direction };
   switch (method.Kind)
   {
     case vtkAdaptiveVolumeMapper::RIEMANN:
@@ -300,23 +395,33 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
         result.Statistics.Samples = out.Samples;
         break;
       }
-      result =
-        an::IntegrateRiemann(field, tf, D, method.SampleDistance, an::RiemannForm::Exponential,
-          segments.data(), segments.size(), method.TerminationBound, steps);
+      result = WithField(volume, method, origin, direction,
+        [&](const auto& field)
+        {
+          return an::IntegrateRiemann(field, tf, D, method.SampleDistance,
+            an::RiemannForm::Exponential, segments.data(), segments.size(), method.TerminationBound,
+            steps);
+        });
       break;
     case vtkAdaptiveVolumeMapper::REFERENCE:
       result = method.Pieces
         ? an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
             *method.Pieces, an::PiecewiseReferenceTolerance<double>())
-        : an::IntegrateReference(field, tf, segments.data(), segments.size());
+        : WithField(volume, method, origin, direction,
+            [&](const auto& field)
+            { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       break;
     case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
       result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
         *method.Pieces, method.Adaptive.Tolerance, true, steps);
       break;
     default:
-      result =
-        an::IntegrateAdaptive(field, tf, segments.data(), segments.size(), method.Adaptive, steps);
+      result = WithField(volume, method, origin, direction,
+        [&](const auto& field)
+        {
+          return an::IntegrateAdaptive(
+            field, tf, segments.data(), segments.size(), method.Adaptive, steps);
+        });
   }
   return true;
 }
@@ -448,6 +553,10 @@ public:
   vtkSmartPointer<vtkDataArray> FrameScalars;
   Method FrameMethod;
   bool FrameSkipping = false;
+  // The shading of the current frame (Method::Shading points here) and the
+  // last cast's, as numbers: a light or coefficient change recasts.
+  an::ShadingModel<double> Shading;
+  std::vector<double> ShadingKey, FrameShadingKey;
 
   FrameGeometry Geometry;
   vtkNew<vtkImageData> Image;
@@ -711,11 +820,23 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // Property -> transfer function and block visibility.
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  const std::string unsupported = avos::UnsupportedPropertySettings(property);
+  const std::string unsupported = avos::UnsupportedPropertySettings(property, true);
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
     return fail();
+  }
+  const bool shade = property->GetShade(0) != 0;
+  internals.ShadingKey.clear();
+  if (shade)
+  {
+    const std::string error = PrepareShading(ren, property, this->BlendMode,
+      this->IntegrationMethod, internals.Shading, internals.ShadingKey);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Cannot shade: " << error << ".");
+      return fail();
+    }
   }
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || voxel != internals.Voxel ||
@@ -738,8 +859,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // Transfer function -> pieces with polynomial extinction, for the
   // piecewise methods.
+  // (A shaded reference is the adaptive one: the pieces' closed forms need an
+  // emission that depends on the scalar alone.)
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
-    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY);
+    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY && !shade);
   if (piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction
@@ -765,8 +888,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // Scalars and transfer function -> the vectorised engine's copies (RIEMANN;
   // volumes beyond its 32-bit indices take the scalar sum).
-  const avos::engine::Volume* engine =
-    this->IntegrationMethod == RIEMANN ? internals.EngineScalars.Update(scalars, dims) : nullptr;
+  // (Shaded sums take the scalar path: the kernels do not shade.)
+  const avos::engine::Volume* engine = this->IntegrationMethod == RIEMANN && !shade
+    ? internals.EngineScalars.Update(scalars, dims)
+    : nullptr;
   if (engine && internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error = internals.EngineTable.Build(internals.TF);
@@ -846,7 +971,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     g.Depth == internals.LastDepth && clip == g.Clip &&
     this->GetMTime() == internals.FrameMapperTime &&
     internals.ClassifyTime.GetMTime() == internals.FrameClassifyTime &&
-    internals.Ranges.GetTime() == internals.FrameRangesTime)
+    internals.Ranges.GetTime() == internals.FrameRangesTime &&
+    internals.ShadingKey == internals.FrameShadingKey)
   {
     this->LastRenderReused = true;
   }
@@ -916,6 +1042,20 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Pieces = piecewise ? &internals.Pieces : nullptr;
     method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
+    if (shade)
+    {
+      method.Shading = &internals.Shading;
+      for (int r = 0; r < 3; ++r)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          // glm is column-major: m[column][row]. The normal matrix is the
+          // transpose of world-to-grid's linear part.
+          method.NormalMatrix[r][c] = g.WorldToGrid[4 * r + c];
+        }
+      }
+      method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
+    }
 
     vtkSMPThreadLocal<ThreadStatistics> statistics;
     vtkSMPThreadLocal<RayBuffers> buffers;
@@ -1009,6 +1149,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     internals.FrameScalars = scalars;
     internals.FrameMethod = method;
     internals.FrameSkipping = map != nullptr;
+    internals.FrameShadingKey = internals.ShadingKey;
     internals.CastDistance = distance;
     timer->StopTimer();
     internals.CastSeconds = timer->GetElapsedTime();

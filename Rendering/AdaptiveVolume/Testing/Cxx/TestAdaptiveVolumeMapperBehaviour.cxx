@@ -11,6 +11,7 @@
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
+#include "vtkLight.h"
 #include "vtkMatrix3x3.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -483,8 +484,21 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Mapper->SetBlendModeToAverageIntensity();
   expectError("average intensity", "composite, maximum and minimum intensity are");
   scene.Mapper->SetBlendModeToComposite();
+  // Shading where it cannot be honoured: the piecewise method, a projection,
+  // a positional light.
   scene.Property->ShadeOn();
-  expectError("shading", "Shading is not supported");
+  const int method = scene.Mapper->GetIntegrationMethod();
+  scene.Mapper->SetIntegrationMethodToPiecewiseAdaptive();
+  expectError("shaded piecewise", "Cannot shade: the piecewise method's closed forms");
+  scene.Mapper->SetIntegrationMethod(method);
+  scene.Mapper->SetBlendModeToMaximumIntensity();
+  expectError("shaded projection", "shading applies to the composite blend mode only");
+  scene.Mapper->SetBlendModeToComposite();
+  vtkNew<vtkLight> lamp;
+  lamp->SetPositional(true);
+  scene.Renderer->AddLight(lamp);
+  expectError("positional light", "positional lights are not supported");
+  scene.Renderer->RemoveLight(lamp);
   scene.Property->ShadeOff();
   scene.Property->SetInterpolationTypeToNearest();
   expectError("nearest interpolation", "Only trilinear interpolation");

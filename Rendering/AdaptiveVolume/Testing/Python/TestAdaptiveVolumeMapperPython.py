@@ -127,11 +127,20 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.assertEqual(self.render(), [])
         self.assertEqual(len(errors), 1)
 
-    def test_shading_is_refused(self):
+    def test_shading(self):
+        # Lit by the renderer's headlight: the alpha channel (optical depth)
+        # is unchanged, the colours change; the piecewise method refuses it.
+        self.mapper.SetIntegrationMethodToAdaptiveCoupled()
+        unlit = self.render()
+        self.prop.ShadeOn()
+        lit = self.render()
+        self.assertEqual(len(lit), len(unlit))
+        self.assertLess(max(abs(a - b) for a, b in zip(lit[3::4], unlit[3::4])), 0.003)
+        self.assertGreater(max(abs(a - b) for a, b in zip(lit[0::4], unlit[0::4])), 0.02)
         errors = []
         self.mapper.AddObserver(vtkCommand.ErrorEvent,
                                 lambda caller, event: errors.append(event))
-        self.prop.ShadeOn()
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
         self.assertEqual(self.render(), [])
         self.assertEqual(len(errors), 1)
 

@@ -5,6 +5,8 @@
 //
 // A ray is any callable `Real field(Real t)` giving the scalar s at distance t
 // (in voxel units) from the ray's entry, t in [0, D], and a TransferFunction.
+// A field with a member `Shade(t, colour)` (ShadedRayField, Shading.h) lights
+// each sample's colour: the emission is then tau C'(x) with C' in [0, 1].
 // The colour I is premultiplied by opacity (RGB = I, A = alpha), black
 // background.
 //
@@ -59,6 +61,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace avos
@@ -189,6 +193,18 @@ struct Sample
   glm::vec<3, Real> Color;
 };
 
+// Fields with a Shade(t, colour) member light the emission (Shading.h).
+template <typename Field, typename Real, typename = void>
+struct IsShaded : std::false_type
+{
+};
+template <typename Field, typename Real>
+struct IsShaded<Field, Real,
+  std::void_t<decltype(std::declval<const Field&>().Shade(
+    Real(0), std::declval<const glm::vec<3, Real>&>()))>> : std::true_type
+{
+};
+
 template <typename Real, typename Field>
 class Sampler
 {
@@ -206,6 +222,13 @@ public:
     Sample<Real> sample;
     sample.Scalar = this->F(t);
     this->TF.Classify(sample.Scalar, sample.Tau, sample.Color);
+    if constexpr (IsShaded<Field, Real>::value)
+    {
+      if (sample.Tau > Real(0))
+      {
+        sample.Color = this->F.Shade(t, sample.Color);
+      }
+    }
     return sample;
   }
 

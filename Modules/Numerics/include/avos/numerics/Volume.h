@@ -60,6 +60,28 @@ public:
     return v0 + fz * (v1 - v0);
   }
 
+  // The gradient of the trilinear interpolant at p (grid coordinates,
+  // per grid unit): exact inside a cell; on a face, that of the cell Locate
+  // picks (the interpolant is only continuous there).
+  glm::vec<3, Real> Gradient(const Point& p) const
+  {
+    int i, j, k;
+    Real fx, fy, fz;
+    Locate(p.x, this->Nx, i, fx);
+    Locate(p.y, this->Ny, j, fy);
+    Locate(p.z, this->Nz, k, fz);
+    Real c[8];
+    this->GetCorners(i, j, k, c);
+    // Differences along x at the four (y, z) edges, then blended.
+    const Real dx00 = c[1] - c[0], dx10 = c[3] - c[2], dx01 = c[5] - c[4], dx11 = c[7] - c[6];
+    const Real gx = (dx00 * (1 - fy) + dx10 * fy) * (1 - fz) + (dx01 * (1 - fy) + dx11 * fy) * fz;
+    const Real x00 = c[0] + fx * dx00, x10 = c[2] + fx * dx10;
+    const Real x01 = c[4] + fx * dx01, x11 = c[6] + fx * dx11;
+    const Real gy = (x10 - x00) * (1 - fz) + (x11 - x01) * fz;
+    const Real gz = (x01 + fy * (x11 - x01)) - (x00 + fy * (x10 - x00));
+    return glm::vec<3, Real>(gx, gy, gz);
+  }
+
   int GetDimension(int axis) const
   {
     return axis == 0 ? this->Nx : (axis == 1 ? this->Ny : this->Nz);

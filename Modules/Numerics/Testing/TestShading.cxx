@@ -1,0 +1,179 @@
+// Shading (Shading.h): the analytic gradient of the trilinear interpolant, the
+// Blinn-Phong model term by term, and the shaded volume rendering integral
+// against a closed form. On a linear field the gradient is constant, so each
+// channel's lit colour is A C(s) + B with constants A and B: for colours that
+// stay below 1 this is again piecewise linear in s, and the Williams-Max
+// oracle of the unshaded integral, applied to the transfer function with
+// colour knots A C_k + B, is exact for the shaded one.
+#include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/Shading.h"
+#include "avos/numerics/Volume.h"
+
+#include "Oracles.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace avos::numerics;
+
+namespace
+{
+constexpr int N[3] = { 6, 5, 4 };
+
+double MaxError(const glm::dvec4& a, const glm::dvec4& b)
+{
+  double e = 0.0;
+  for (int c = 0; c < 4; ++c)
+  {
+    e = std::max(e, std::abs(a[c] - b[c]));
+  }
+  return e;
+}
+} // namespace
+
+TEST(Shading, GradientOfTheTrilinearInterpolantIsExact)
+{
+  // A trilinear function: its interpolant is itself, its gradient exact.
+  auto f = [](double x, double y, double z) { return 1 + 2 * x - y + 0.5 * z + 0.25 * x * y * z; };
+  std::vector<double> data;
+  for (int k = 0; k < N[2]; ++k)
+    for (int j = 0; j < N[1]; ++j)
+      for (int i = 0; i < N[0]; ++i)
+        data.push_back(f(i, j, k));
+  const TrilinearVolume<double, double> volume(data.data(), N);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int r = 0; r < 1000; ++r)
+  {
+    const glm::dvec3 p(u(rng) * (N[0] - 1), u(rng) * (N[1] - 1), u(rng) * (N[2] - 1));
+    const glm::dvec3 g = volume.Gradient(p);
+    EXPECT_NEAR(g.x, 2 + 0.25 * p.y * p.z, 1e-12);
+    EXPECT_NEAR(g.y, -1 + 0.25 * p.x * p.z, 1e-12);
+    EXPECT_NEAR(g.z, 0.5 + 0.25 * p.x * p.y, 1e-12);
+  }
+}
+
+TEST(Shading, BlinnPhongTermByTerm)
+{
+  ShadingModel<double> model;
+  model.Ambient = 0.2;
+  model.Diffuse = 0.5;
+  model.Specular = 0.3;
+  model.SpecularPower = 4.0;
+  model.TwoSided = false;
+  const glm::dvec3 up(0, 0, 1);
+  model.Lights.push_back({ up, glm::dvec3(1.0), glm::dvec3(1.0) });
+  ASSERT_EQ(model.Validate(), "");
+  const glm::dvec3 c(0.4, 0.6, 0.8);
+
+  // No gradient, no normal: ambient only.
+  EXPECT_LT(glm::length(model.Shade(c, glm::dvec3(0.0), up) - 0.2 * c), 1e-15);
+  // Normal, light and viewer aligned: every term at its full weight.
+  const glm::dvec3 full = model.Shade(c, 3.0 * up, up);
+  EXPECT_LT(glm::length(full - glm::clamp(0.7 * c + 0.3, 0.0, 1.0)), 1e-15);
+  // Light at 60 degrees from the normal, viewer along the normal: n.l = 1/2,
+  // n.h = cos 30 degrees.
+  const double a = M_PI / 3;
+  model.Lights[0].Direction = glm::dvec3(std::sin(a), 0, std::cos(a));
+  const glm::dvec3 tilted = model.Shade(c, up, up);
+  const double nh = std::cos(a / 2);
+  EXPECT_LT(glm::length(tilted - (0.2 * c + 0.5 * 0.5 * c + 0.3 * std::pow(nh, 4.0))), 1e-14);
+  // A normal facing away: one-sided lighting leaves the ambient term,
+  // two-sided lighting lights it as if it faced the light.
+  EXPECT_LT(glm::length(model.Shade(c, -up, up) - 0.2 * c), 1e-15);
+  model.TwoSided = true;
+  EXPECT_LT(glm::length(model.Shade(c, -up, up) - tilted), 1e-14);
+  // Bright lights saturate at 1 per channel.
+  model.Lights[0].Diffuse = glm::dvec3(10.0);
+  EXPECT_EQ(model.Shade(c, up, up), glm::dvec3(1.0));
+
+  ShadingModel<double> bad = model;
+  bad.SpecularPower = -1;
+  EXPECT_NE(bad.Validate(), "");
+  bad = model;
+  bad.Lights[0].Direction = glm::dvec3(0, 0, 2);
+  EXPECT_NE(bad.Validate(), "");
+}
+
+TEST(Shading, ShadedIntegralOfALinearFieldMatchesItsClosedForm)
+{
+  // s = 0.1 + 0.15 z on a 4 x 4 x 8 grid (spacing 1): the gradient is
+  // (0, 0, 0.15) everywhere.
+  const int dims[3] = { 4, 4, 8 };
+  std::vector<double> data;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        data.push_back(0.1 + 0.15 * k);
+  const TrilinearVolume<double, double> volume(data.data(), dims);
+
+  TransferFunction<double> tf;
+  const double knots[][5] = { { 0.0, 0.1, 0.2, 0.5, 0.0 }, { 0.4, 0.5, 0.3, 0.2, 0.6 },
+    { 0.7, 0.2, 0.5, 0.4, 0.2 }, { 1.2, 0.6, 0.1, 0.3, 0.9 } };
+  for (const auto& k : knots)
+  {
+    tf.AddColorKnot(k[0], k[1], k[2], k[3]);
+    tf.AddOpacityKnot(k[0], k[4]);
+  }
+  tf.Finalize();
+
+  ShadingModel<double> model;
+  model.Ambient = 0.15;
+  model.Diffuse = 0.6;
+  model.Specular = 0.25;
+  model.SpecularPower = 8.0;
+  const glm::dvec3 toLight = glm::normalize(glm::dvec3(0.3, -0.2, 1.0));
+  model.Lights.push_back({ toLight, glm::dvec3(0.9, 0.8, 1.0), glm::dvec3(1.0, 1.0, 0.7) });
+  ASSERT_EQ(model.Validate(), "");
+
+  // A ray from the volume's top face downwards and sideways.
+  const glm::dvec3 origin(0.4, 0.7, 7.0);
+  const glm::dvec3 direction = glm::normalize(glm::dvec3(0.2, 0.1, -1.0));
+  double t0 = 0.0, t1 = 100.0;
+  ASSERT_TRUE(ClipToGrid(origin, direction, dims, t0, t1));
+  const double D = t1 - t0;
+  const glm::dvec3 start = origin + t0 * direction;
+  const glm::dmat3 normalMatrix(1.0); // world = grid here
+  const ShadedRayField<double, TrilinearVolume<double, double>> shaded{ volume, start, direction,
+    normalMatrix, -direction, model };
+
+  // The oracle: the colour knots lit by the constant gradient.
+  TransferFunction<double> lit;
+  for (const auto& k : knots)
+  {
+    const glm::dvec3 c =
+      model.Shade(glm::dvec3(k[1], k[2], k[3]), volume.Gradient(start), -direction);
+    ASSERT_LT(std::max({ c.r, c.g, c.b }), 1.0) << "no clamping: the lit colours stay linear";
+    lit.AddColorKnot(k[0], c.r, c.g, c.b);
+    lit.AddOpacityKnot(k[0], k[4]);
+  }
+  lit.Finalize();
+  const double s0 = 0.1 + 0.15 * start.z, slope = 0.15 * direction.z;
+  const glm::dvec4 exact = oracles::LinearField(lit, s0, slope, D);
+  const glm::dvec4 unlit = oracles::LinearField(tf, s0, slope, D);
+  ASSERT_GT(MaxError(exact, unlit), 0.05) << "the shading changes the ray";
+
+  for (double eps : { 1e-2, 1e-3, 1e-4 })
+  {
+    for (Strategy strategy : { Strategy::Coupled, Strategy::Decoupled })
+    {
+      AdaptiveSettings<double> settings;
+      settings.Tolerance = eps;
+      settings.Coupling = strategy;
+      settings.MinimumStep = 1e-3;
+      const auto r = IntegrateAdaptive(shaded, tf, D, settings);
+      ASSERT_EQ(r.Error, "");
+      EXPECT_LT(MaxError(r.RGBA, exact), eps) << "eps " << eps;
+    }
+  }
+  // Riemann: first order, so within a constant times h.
+  const double e1 =
+    MaxError(IntegrateRiemann(shaded, tf, D, 0.01, RiemannForm::Exponential).RGBA, exact);
+  const double e2 =
+    MaxError(IntegrateRiemann(shaded, tf, D, 0.005, RiemannForm::Exponential).RGBA, exact);
+  EXPECT_LT(e1, 0.01);
+  EXPECT_NEAR(e1 / e2, 2.0, 0.3) << "first order";
+}
