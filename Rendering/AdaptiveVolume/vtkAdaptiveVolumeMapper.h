@@ -46,11 +46,18 @@
  * between them), shown as VTK shows a projection: the colour there times the
  * opacity function's value there (clamped to [0, 1]), that value as alpha.
  *
+ * Shading (the property's Shade, ambient, diffuse, specular and specular
+ * power, the renderer's directional lights): the emission is lit as VTK's
+ * mappers light a sample (Blinn-Phong), with the exact gradient of the
+ * trilinear field at the sample, not VTK's precomputed, quantised normals;
+ * the adaptive methods control the error of the lit integrand. The Riemann,
+ * coupled, decoupled and reference methods shade; the piecewise method, the
+ * projections and positional lights refuse it.
+ *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
  * supported (an error says so and nothing is drawn): multi-component or cell
- * scalars, the average and additive blend modes, shading, clipping planes
- * with a transform, cropping of inputs with a direction matrix or negative
- * spacing.
+ * scalars, the average and additive blend modes, clipping planes with a
+ * transform, cropping of inputs with a direction matrix or negative spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper
  */

@@ -208,5 +208,15 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
       ++failures;
     }
   }
+  // An unchanged frame is reused; a dimmer light is a new frame.
+  window->Render();
+  const bool reused = mapper->GetLastRenderReused();
+  light->SetIntensity(0.5);
+  window->Render();
+  if (!reused || mapper->GetLastRenderReused())
+  {
+    std::cerr << "FAIL a light change must recast, an unchanged frame must not\n";
+    ++failures;
+  }
   return failures == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
 }
