@@ -59,7 +59,8 @@ const char* Usage =
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
   "         [--compare REF.exr] [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]\n"
   "         [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]\n"
-  "         [--blend composite|maximum|minimum] [--shade]\n"
+  "         [--blend composite|maximum|minimum|average|additive] [--average-range LO,HI]\n"
+  "         [--shade]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
@@ -76,7 +77,9 @@ const char* Usage =
   "--crop: VTK's cropping region planes (the volume's coordinates); --crop-mode: which\n"
   "of the 27 regions are kept (default subvolume: the box between the planes).\n"
   "--blend maximum|minimum: the intensity projections (exact in avos's methods: the\n"
-  "extremum of the trilinear field along the ray, not of samples).\n"
+  "extremum of the trilinear field along the ray, not of samples). --blend additive|average:\n"
+  "VTK's GPU mapper's meaning (opacity-weighted normalised scalar, summed, or averaged over\n"
+  "the scalars in --average-range), integrated along the ray in avos's methods.\n"
   "--shade: gradient shading (VTK's ambient 0.1, diffuse 0.7, specular 0.2, power 10,\n"
   "the headlight), with the analytic gradient of the trilinear field in avos's methods\n"
   "(riemann, coupled, decoupled, reference; the piecewise method refuses it).\n";
@@ -98,6 +101,7 @@ struct Options
   std::string Compare;
   std::vector<std::vector<double>> Clip; // normal and origin of each plane
   std::vector<double> Crop;              // empty: no cropping
+  std::vector<double> AverageRange;      // empty: VTK's default (every scalar)
   int CropFlags = VTK_CROP_SUBVOLUME;
   int Blend = vtkVolumeMapper::COMPOSITE_BLEND;
   bool Shade = false;
@@ -227,6 +231,13 @@ std::string Parse(int argc, char* argv[], Options& o)
       }
       o.Clip.push_back(plane);
     }
+    else if (arg == "--average-range")
+    {
+      if (!ParseList(value, 2, o.AverageRange) || o.AverageRange[0] > o.AverageRange[1])
+      {
+        return "--average-range needs LO,HI with LO at most HI";
+      }
+    }
     else if (arg == "--crop")
     {
       if (!ParseList(value, 6, o.Crop) || o.Crop[0] > o.Crop[1] || o.Crop[2] > o.Crop[3] ||
@@ -239,10 +250,12 @@ std::string Parse(int argc, char* argv[], Options& o)
     {
       const std::map<std::string, int> modes = { { "composite", vtkVolumeMapper::COMPOSITE_BLEND },
         { "maximum", vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND },
-        { "minimum", vtkVolumeMapper::MINIMUM_INTENSITY_BLEND } };
+        { "minimum", vtkVolumeMapper::MINIMUM_INTENSITY_BLEND },
+        { "average", vtkVolumeMapper::AVERAGE_INTENSITY_BLEND },
+        { "additive", vtkVolumeMapper::ADDITIVE_BLEND } };
       if (!modes.count(value))
       {
-        return "--blend is composite, maximum or minimum";
+        return "--blend is composite, maximum, minimum, average or additive";
       }
       o.Blend = modes.at(value);
     }
@@ -438,6 +451,10 @@ int main(int argc, char* argv[])
   vtkSmartPointer<vtkVolumeMapper> mapper = app::MakeMapper(o.Settings, voxel);
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
   mapper->SetBlendMode(o.Blend);
+  if (!o.AverageRange.empty())
+  {
+    mapper->SetAverageIPScalarRange(o.AverageRange[0], o.AverageRange[1]);
+  }
   for (const std::vector<double>& p : o.Clip)
   {
     vtkNew<vtkPlane> plane;

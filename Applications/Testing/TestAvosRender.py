@@ -234,6 +234,16 @@ print("mean alpha: maximum %.5f (fixed point %.5f), minimum %.5f" % (mip, fixed_
 check(mip > 0 and 0 <= minip < mip, "a maximum projection shows, the minimum below it")
 check(abs(fixed_mip - mip) < 0.05 * mip, "the fixed-point maximum agrees within 5 %")
 
+# Additive and average: opaque grey wherever the ray meets the volume (the
+# average: its range), so some pixels are opaque and a narrower range covers
+# fewer of them.
+additive = mean_alpha("--method", "coupled", "--blend", "additive")
+wide = mean_alpha("--method", "coupled", "--blend", "average")
+narrow = mean_alpha("--method", "coupled", "--blend", "average", "--average-range", "100,120")
+print("mean alpha: additive %.5f, average %.5f, average over [100, 120] %.5f"
+      % (additive, wide, narrow))
+check(additive > 0.1 and 0 < narrow < wide, "additive and average render")
+
 # Shading: the coupled method lights the emission (the colours change, the
 # report says so); the piecewise method refuses it with a message.
 shaded_report = os.path.join(SCRATCH, "shaded.json")
@@ -313,7 +323,9 @@ for args, message in [((), "no input"),
                       ((VOLUME, "--clip", "1,0,0,1"), "--clip"),
                       ((VOLUME, "--crop", "5,1,0,1,0,1"), "--crop"),
                       ((VOLUME, "--crop-mode", "diagonal"), "--crop-mode"),
-                      ((VOLUME, "--blend", "average"), "--blend"),
+                      ((VOLUME, "--blend", "isosurface"), "--blend"),
+                      ((VOLUME, "--blend", "average", "--average-range", "5,1"),
+                       "--average-range"),
                       ((VOLUME, "--method", "riemann", "--step", "1e-6"), "--step must be within"),
                       ((VOLUME, "--hmin", "0"), "--hmin must be within"),
                       ((VOLUME, "--threads", "-1"), "--threads")]:

@@ -31,6 +31,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/Riemann.h"
+#include "avos/numerics/Accumulation.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/Extremum.h"
@@ -157,6 +158,10 @@ struct Method
   // matrix's linear part (ray directions to world) and the normal matrix
   // (grid gradients to world).
   const an::ShadingModel<double>* Shading = nullptr;
+  // The average projection's range, and the data's range, to which the
+  // projections normalise the scalar.
+  const an::AverageRange<double>* Range = nullptr;
+  double ScalarMinimum = 0.0, ScalarMaximum = 1.0;
   glm::dmat3 GridToWorld{ 1.0 };
   glm::dmat3 NormalMatrix{ 1.0 };
 };
@@ -362,6 +367,34 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   {
     return true;
   }
+  if (method.Blend == vtkVolumeMapper::ADDITIVE_BLEND ||
+    method.Blend == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
+  {
+    // Shown as VTK's GPU mapper shows them: grey, clamped to [0, 1], opaque
+    // wherever the ray meets the volume (the average: the range).
+    an::Accumulation<double> a;
+    if (method.Blend == vtkVolumeMapper::ADDITIVE_BLEND)
+    {
+      a = an::AdditiveAlongRay(volume, origin, direction, segments.data(), segments.size(),
+        *method.Pieces, method.ScalarMinimum, method.ScalarMaximum);
+      a.Length = 1.0;
+    }
+    else
+    {
+      a = an::AverageAlongRay(volume, origin, direction, segments.data(), segments.size(),
+        *method.Range, tf, method.SampleDistance, method.ScalarMinimum, method.ScalarMaximum,
+        method.Adaptive.Tolerance);
+    }
+    result.Error = a.Error;
+    if (a.Error.empty() && a.Length > 0.0)
+    {
+      const double v = std::min(std::max(a.Value, 0.0), 1.0);
+      result.RGBA = glm::dvec4(v, v, v, 1.0);
+    }
+    result.Statistics.Cells = a.Cells;
+    result.Statistics.Samples = a.Cells;
+    return true;
+  }
   if (projection)
   {
     // The exact extremum of the ray's scalar, shown as VTK's mappers show a
@@ -530,6 +563,8 @@ public:
   an::PiecewiseTransferFunction<double> Pieces;
   double PiecesRelativeError = 0.0;
   vtkTimeStamp PiecesTime;
+  // The average projection's range (AverageAlongRay), rebuilt every frame.
+  an::AverageRange<double> AverageRange;
   // The vectorised engine's inputs (RIEMANN): the scalars as the kernels
   // read them, and the transfer table, rebuilt with the classification.
   avos::EngineVolume EngineScalars;
@@ -650,7 +685,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                   << this->MinimumStep << " / " << this->MaximumStep << ").");
     return fail();
   }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  // (The additive projection integrates the same pieces at the tolerance.)
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+    this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND)
   {
     const std::string error = an::ValidatePiecewiseTolerance(this->Tolerance,
       this->OpacityModel == EXTINCTION_OPACITY ? an::OpacityModel::Extinction
@@ -675,10 +712,13 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
     this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
-    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND)
+    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::AVERAGE_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::ADDITIVE_BLEND)
   {
     vtkErrorMacro(<< "Blend mode " << this->BlendMode
-                  << " is not supported: composite, maximum and minimum intensity are.");
+                  << " is not supported: composite, maximum, minimum and average intensity, "
+                     "and additive are.");
     return fail();
   }
 
@@ -861,13 +901,14 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // piecewise methods.
   // (A shaded reference is the adaptive one: the pieces' closed forms need an
   // emission that depends on the scalar alone.)
-  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+  const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
     (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY && !shade);
   if (piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction
     // model's pieces are exact); the reference never uses the alpha model here.
-    const double relativeError = this->IntegrationMethod == PIECEWISE_ADAPTIVE
+    const double relativeError = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive
       ? an::PiecewiseRelativeError(this->Tolerance)
       : an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>());
     if (internals.PiecesTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
@@ -883,6 +924,23 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       }
       internals.PiecesRelativeError = relativeError;
       internals.PiecesTime.Modified();
+    }
+  }
+
+  // The average projection's range, within the data's (VTK's default range
+  // is the whole float line), as pieces that mark it.
+  const double* dataRange = scalars->GetRange(0);
+  if (this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
+  {
+    const double r0 = std::max(this->AverageIPScalarRange[0], dataRange[0]);
+    const double r1 = std::min(this->AverageIPScalarRange[1], dataRange[1]);
+    // A range beside the data's holds no ray: zero width.
+    const std::string error = internals.AverageRange.Build(internals.TF, r0, std::max(r0, r1));
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Unusable average intensity range [" << this->AverageIPScalarRange[0] << ", "
+                    << this->AverageIPScalarRange[1] << "]: " << error << ".");
+      return fail();
     }
   }
 
@@ -1039,6 +1097,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Adaptive.FieldMaximum = scalars->GetRange(0)[1];
     method.SampleDistance = this->SampleDistance;
     method.TerminationBound = 0.2 * this->Tolerance;
+    method.Range = &internals.AverageRange;
+    method.ScalarMinimum = dataRange[0];
+    // A constant volume: any positive span gives n = 0 everywhere.
+    method.ScalarMaximum = dataRange[1] > dataRange[0] ? dataRange[1] : dataRange[0] + 1.0;
     method.Pieces = piecewise ? &internals.Pieces : nullptr;
     method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
@@ -1087,7 +1149,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
         this->UpdateProgress(1.0);
       }
     };
-    if (!map || internals.VisibleBlocks > 0)
+    // (With every block transparent nothing composites; the projections
+    // still show the volume: an opaque black or grey.)
+    if (!map || internals.VisibleBlocks > 0 || this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
     {
       switch (scalars->GetDataType())
       {

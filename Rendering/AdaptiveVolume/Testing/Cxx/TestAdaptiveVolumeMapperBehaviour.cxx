@@ -481,8 +481,9 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   expectError("NaN opacity", "Unusable transfer function");
   scene.Opacity->RemovePoint(60);
 
-  scene.Mapper->SetBlendModeToAverageIntensity();
-  expectError("average intensity", "composite, maximum and minimum intensity are");
+  scene.Mapper->SetBlendModeToIsoSurface();
+  expectError(
+    "isosurface blend", "composite, maximum, minimum and average intensity, and additive are");
   scene.Mapper->SetBlendModeToComposite();
   // Shading where it cannot be honoured: the piecewise method, a projection,
   // a positional light.

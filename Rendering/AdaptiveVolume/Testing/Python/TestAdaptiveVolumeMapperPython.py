@@ -123,7 +123,14 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         errors = []
         self.mapper.AddObserver(vtkCommand.ErrorEvent,
                                 lambda caller, event: errors.append(event))
-        self.mapper.SetBlendModeToAverageIntensity()
+        # Additive: grey and opaque over the volume; the isosurface mode is refused.
+        self.mapper.SetBlendModeToAdditive()
+        added = self.render()
+        self.assertEqual(max(added[3::4]), 1.0)
+        self.assertGreater(max(added[0::4]), 0.0)
+        self.assertEqual(added[0::4], added[1::4])
+        self.assertEqual(len(errors), 0)
+        self.mapper.SetBlendModeToIsoSurface()
         self.assertEqual(self.render(), [])
         self.assertEqual(len(errors), 1)
 
