@@ -45,6 +45,13 @@
  * derivative; VTK's mappers take the extremum of samples and miss peaks
  * between them), shown as VTK shows a projection: the colour there times the
  * opacity function's value there (clamped to [0, 1]), that value as alpha.
+ * Additive and average intensity, with the meaning VTK's GPU mapper gives
+ * them, integrated instead of sampled (avos/numerics/Accumulation.h): the
+ * integral of the extinction times the scalar normalised to the data's range
+ * (exact), and the mean of the step-corrected opacity times the normalised
+ * scalar over the part of the ray whose scalar lies in AverageIPScalarRange
+ * (within the tolerance); grey, opaque where the ray meets the volume (the
+ * range).
  *
  * Shading (the property's Shade, ambient, diffuse, specular and specular
  * power, the renderer's directional lights): the emission is lit as VTK's
@@ -56,7 +63,7 @@
  *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
  * supported (an error says so and nothing is drawn): multi-component or cell
- * scalars, the average and additive blend modes, clipping planes with a
+ * scalars, the isosurface and slice blend modes, clipping planes with a
  * transform, cropping of inputs with a direction matrix or negative spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper
