@@ -11,8 +11,6 @@
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
-#include "vtkPlane.h"
-#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
@@ -24,6 +22,7 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include "avosClippingPlanes.h"
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
@@ -789,34 +788,12 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // Clipping planes (world) and cropping (the volume's coordinates, as VTK's
   // mappers: origin and spacing) -> grid coordinates.
   an::ClipRegion<double> clip;
-  if (this->ClippingPlanes)
+  const std::string planesError =
+    avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), clip);
+  if (!planesError.empty())
   {
-    const double* m = gridToWorld->GetData();
-    vtkCollectionSimpleIterator it;
-    this->ClippingPlanes->InitTraversal(it);
-    while (vtkPlane* plane = this->ClippingPlanes->GetNextPlane(it))
-    {
-      if (plane->GetTransform())
-      {
-        vtkErrorMacro(<< "Clipping planes with a transform are not supported.");
-        return fail();
-      }
-      double n[3], o[3];
-      plane->GetNormal(n);
-      plane->GetOrigin(o);
-      // n . (M x + c - o) >= 0 with M, c the grid -> world matrix's parts.
-      glm::dvec3 normal(0.0);
-      double offset = 0.0;
-      for (int i = 0; i < 3; ++i)
-      {
-        for (int j = 0; j < 3; ++j)
-        {
-          normal[j] += n[i] * m[4 * i + j];
-        }
-        offset += n[i] * (m[4 * i + 3] - o[i]);
-      }
-      clip.AddPlane(normal, offset);
-    }
+    vtkErrorMacro(<< planesError << ".");
+    return fail();
   }
   if (this->Cropping)
   {

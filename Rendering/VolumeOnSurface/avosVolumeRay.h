@@ -10,14 +10,17 @@
 #include "vtkImageData.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkType.h"
 
+#include "avosClippingPlanes.h"
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 
+#include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
@@ -64,9 +67,14 @@ struct VolumeRaySetup
   // null to integrate every ray over its whole length.
   const avos::numerics::EmptySpaceMap<double>* Map = nullptr;
 
-  // Empty, or why the volume or the property cannot be used.
+  // The clipping planes that cut the rays (grid coordinates; AddClippingPlanes).
+  avos::numerics::ClipRegion<double> Clip;
+
+  // Empty, or why the volume or the property cannot be used. `planes`: the
+  // clipping planes (world coordinates) that cut every ray; null: none.
   std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
-    RayIntegration method, double sampleDistance, double tolerance)
+    RayIntegration method, double sampleDistance, double tolerance,
+    vtkPlaneCollection* planes = nullptr)
   {
     this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
     if (!this->Scalars || this->Scalars->GetNumberOfComponents() != 1)
@@ -135,6 +143,12 @@ struct VolumeRaySetup
           std::to_string(tolerance) + ": " + piecesError;
       }
     }
+    this->Clip = avos::numerics::ClipRegion<double>();
+    const std::string planesError = AddClippingPlanes(planes, gridToWorld->GetData(), this->Clip);
+    if (!planesError.empty())
+    {
+      return planesError;
+    }
     vtkMatrix4x4::Invert(gridToWorld, inverse);
     std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
     this->Method = method;
@@ -192,18 +206,26 @@ public:
     };
     // Only the parts of the ray in visible blocks: a Riemann sum over them is
     // the full sum exactly, the adaptive rule keeps its bound (RayIntegrators.h).
-    thread_local std::vector<avos::numerics::Interval<double>> segments;
+    thread_local std::vector<avos::numerics::Interval<double>> segments, kept, clipped;
     if (this->Setup.Map)
     {
       this->Setup.Map->Segments(origin, -step, D, 1e-6, segments);
-      if (segments.empty())
-      {
-        return none;
-      }
     }
     else
     {
       segments.assign(1, { 0.0, D });
+    }
+    // And the parts the clipping planes keep, cut exactly where the ray
+    // crosses them (the methods integrate exactly the segments they get).
+    if (!this->Setup.Clip.IsEmpty() && !segments.empty())
+    {
+      this->Setup.Clip.Kept(origin, -step, D, kept);
+      avos::numerics::ClipRegion<double>::Intersect(segments, kept, clipped);
+      std::swap(segments, clipped);
+    }
+    if (segments.empty())
+    {
+      return none;
     }
     if (this->Setup.Method == RayIntegration::Adaptive)
     {

@@ -9,6 +9,8 @@
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenMeshDecimation.h"
+#include "vtkPlane.h"
+#include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -44,12 +46,13 @@ struct ViewKey
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
   std::array<double, 5> Integration{}; // method, step, tolerance, extinction, skipping
+  std::vector<double> Planes;          // each clipping plane's origin and normal
 
   bool operator==(const ViewKey& o) const
   {
     return this->Projection == o.Projection && this->Eye == o.Eye && this->Parallel == o.Parallel &&
       this->Surface == o.Surface && this->Volume == o.Volume && this->Property == o.Property &&
-      this->Integration == o.Integration;
+      this->Integration == o.Integration && this->Planes == o.Planes;
   }
 };
 } // namespace
@@ -280,6 +283,17 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
     double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping) };
+  if (this->ClippingPlanes)
+  {
+    vtkCollectionSimpleIterator it;
+    this->ClippingPlanes->InitTraversal(it);
+    while (vtkPlane* plane = this->ClippingPlanes->GetNextPlane(it))
+    {
+      const double* o = plane->GetOrigin();
+      const double* n = plane->GetNormal();
+      key.Planes.insert(key.Planes.end(), { o[0], o[1], o[2], n[0], n[1], n[2] });
+    }
+  }
   if (!in.HaveKey || !(key == in.Key))
   {
     in.FullColors.assign(static_cast<std::size_t>(surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
@@ -292,9 +306,11 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   if (levelIndex != in.DrawnLevel)
   {
     avos::VolumeRaySetup setup;
+    // The mapper's clipping planes clip the drawn surface (the delegate) and
+    // cut the rays: no volume from beyond a plane colours a vertex.
     const std::string error = setup.Prepare(volume, this->VolumeProperty,
       this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
-      this->SampleDistance, this->Tolerance);
+      this->SampleDistance, this->Tolerance, this->ClippingPlanes);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Cannot cast rays: " << error << ".");

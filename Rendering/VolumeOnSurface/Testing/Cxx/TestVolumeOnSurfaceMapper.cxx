@@ -13,6 +13,7 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPlane.h"
 #include "vtkPlaneSource.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
@@ -98,6 +99,33 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   }
   window->Render();
   Expect(mapper->GetNumberOfRaysCast() == 0, "an unchanged frame casts nothing");
+
+  // A clipping plane keeping z <= h cuts the rays too: each leaves the kept
+  // volume after h world units (closed form), and moving the plane casts again.
+  vtkNew<vtkPlane> plane;
+  plane->SetNormal(0, 0, -1);
+  mapper->AddClippingPlane(plane);
+  for (double h : { 0.5, 0.25 })
+  {
+    plane->SetOrigin(0, 0, h);
+    window->Render();
+    Expect(mapper->GetNumberOfRaysCast() == n, "a new or moved plane casts again");
+    const double clipped = 1.0 - std::exp(-tau * h / voxel);
+    vtkDataArray* colors = mapper->GetColoredSurface()->GetPointData()->GetScalars();
+    double worst = 0.0;
+    for (vtkIdType v = 0; v < n; ++v)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        const double exact = 255.0 * (c < 3 ? color[c] * clipped : clipped);
+        worst = std::max(worst, std::abs(colors->GetComponent(v, c) - exact));
+      }
+    }
+    Expect(worst <= 0.5 + 1e-6, "clipped colours = closed form (rounded to 8 bits)");
+  }
+  mapper->RemoveAllClippingPlanes();
+  window->Render();
+  Expect(mapper->GetNumberOfRaysCast() == n, "removing the plane casts again");
 
   // A coarser level for the same view: colours come from the full level.
   mapper->SetLevelOfDetail(2); // 90 % decimated
