@@ -46,6 +46,14 @@ cmake --build "$build" --parallel "$(nproc)"
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/Testing/tsan.supp"
+# ThreadSanitizer sees synchronisation only through instrumented code and the
+# pthread calls it intercepts: TBB (vtkSMPTools' default backend here) is not
+# instrumented, so every hand-over between its workers and the calling thread
+# would be reported as a race. VTK's std::thread backend runs the same
+# functors on the same tiles with synchronisation ThreadSanitizer can see.
+if [ "$mode" = thread ]; then
+  export VTK_SMP_BACKEND_IN_USE=STDThread
+fi
 if [ "$compiler" = clang ]; then
   preload="/usr/lib/llvm-16/lib/clang/16/lib/linux/libclang_rt.$clang_runtime-x86_64.so"
 else
