@@ -14,13 +14,12 @@
 #include "vtkTransferFunction1DReader.h"
 #include "vtkVolumeProperty.h"
 
+#include "avosFuzz.h"
+
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace
 {

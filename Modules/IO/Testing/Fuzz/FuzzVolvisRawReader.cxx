@@ -15,14 +15,14 @@
 #include "vtkTestErrorObserver.h"
 #include "vtkVolvisRawReader.h"
 
+#include "avosFuzz.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace
 {

@@ -14,10 +14,10 @@
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
+#include "avosFuzz.h"
+
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -77,14 +77,7 @@ private:
   std::size_t Position = 0;
 };
 
-void Require(bool ok, const char* what)
-{
-  if (!ok)
-  {
-    std::fprintf(stderr, "fuzz: violated: %s\n", what);
-    std::abort();
-  }
-}
+using avosfuzz::Require;
 
 void RequireUsable(const an::RayResult<double>& r, const char* what)
 {

@@ -9,7 +9,6 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
-#include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -21,6 +20,7 @@
 #include "vtkVolumeOnSurfaceFilter.h"
 #include "vtkVolumeProperty.h"
 
+#include "OverflowScene.h"
 #include "avosTestHelpers.h"
 
 #include <algorithm>
@@ -288,27 +288,9 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   // colouring the vertices transparent. (The adaptive and Levoy rays treat a
   // sample that is not finite as transparent, as they treat NaN data.)
   {
-    vtkNew<vtkImageData> extreme;
-    extreme->DeepCopy(volume);
-    vtkNew<vtkDoubleArray> values;
-    values->SetNumberOfTuples(extreme->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i)
-    {
-      values->SetValue(i, i % 2 ? 1.5e308 : -1.5e308);
-    }
-    extreme->GetPointData()->SetScalars(values);
-    vtkNew<vtkPiecewiseFunction> flat;
-    flat->AddPoint(-1.7e308, tau);
-    flat->AddPoint(1.7e308, tau);
-    vtkNew<vtkColorTransferFunction> grey;
-    grey->AddRGBPoint(-1.7e308, 0.5, 0.5, 0.5);
-    grey->AddRGBPoint(1.7e308, 0.5, 0.5, 0.5);
-    vtkNew<vtkVolumeProperty> wide;
-    wide->SetInterpolationTypeToLinear();
-    wide->SetColor(grey);
-    wide->SetScalarOpacity(flat);
-    vos->SetInputData(1, extreme);
-    vos->SetVolumeProperty(wide);
+    const overflowscene::Scene extreme(volume, tau);
+    vos->SetInputData(1, extreme.Volume);
+    vos->SetVolumeProperty(extreme.Property);
     vos->SetIntegrationMethodToPiecewise();
     vos->Update();
     Expect(errors.Check("overflow", "ray(s) could not be integrated"), "overflowing rays");

@@ -9,7 +9,6 @@
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
-#include "vtkDoubleArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -23,6 +22,7 @@
 #include "vtkVolumeOnSurfaceMapper.h"
 #include "vtkVolumeProperty.h"
 
+#include "OverflowScene.h"
 #include "avosTestHelpers.h"
 
 #include <cmath>
@@ -78,6 +78,22 @@ int TestVolumeOnSurfaceMapper(int, char*[])
 
   const vtkIdType n = 31 * 31;
   const double alpha = 1.0 - std::exp(-tau / voxel);
+  // The largest difference of any vertex's 8-bit colour from the closed form
+  // of a constant medium of opacity `a`: colour times a, a.
+  auto worstAgainst = [&](double a)
+  {
+    vtkDataArray* colors = mapper->GetColoredSurface()->GetPointData()->GetScalars();
+    double worst = 0.0;
+    for (vtkIdType v = 0; v < n; ++v)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        const double exact = 255.0 * (c < 3 ? color[c] * a : a);
+        worst = std::max(worst, std::abs(colors->GetComponent(v, c) - exact));
+      }
+    }
+    return worst;
+  };
   for (int method : { vtkVolumeOnSurfaceMapper::LEVOY, vtkVolumeOnSurfaceMapper::ADAPTIVE,
          vtkVolumeOnSurfaceMapper::PIECEWISE })
   {
@@ -85,17 +101,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     window->Render();
     Expect(mapper->GetNumberOfVisibleVertices() == n && mapper->GetNumberOfRaysCast() == n,
       "every vertex visible, one ray each");
-    vtkDataArray* colors = mapper->GetColoredSurface()->GetPointData()->GetScalars();
-    double worst = 0.0;
-    for (vtkIdType v = 0; v < n; ++v)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        const double exact = 255.0 * (c < 3 ? color[c] * alpha : alpha);
-        worst = std::max(worst, std::abs(colors->GetComponent(v, c) - exact));
-      }
-    }
-    Expect(worst <= 0.5 + 1e-6, "colours = closed form (rounded to 8 bits)");
+    Expect(worstAgainst(alpha) <= 0.5 + 1e-6, "colours = closed form (rounded to 8 bits)");
   }
   window->Render();
   Expect(mapper->GetNumberOfRaysCast() == 0, "an unchanged frame casts nothing");
@@ -110,18 +116,8 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     plane->SetOrigin(0, 0, h);
     window->Render();
     Expect(mapper->GetNumberOfRaysCast() == n, "a new or moved plane casts again");
-    const double clipped = 1.0 - std::exp(-tau * h / voxel);
-    vtkDataArray* colors = mapper->GetColoredSurface()->GetPointData()->GetScalars();
-    double worst = 0.0;
-    for (vtkIdType v = 0; v < n; ++v)
-    {
-      for (int c = 0; c < 4; ++c)
-      {
-        const double exact = 255.0 * (c < 3 ? color[c] * clipped : clipped);
-        worst = std::max(worst, std::abs(colors->GetComponent(v, c) - exact));
-      }
-    }
-    Expect(worst <= 0.5 + 1e-6, "clipped colours = closed form (rounded to 8 bits)");
+    Expect(worstAgainst(1.0 - std::exp(-tau * h / voxel)) <= 0.5 + 1e-6,
+      "clipped colours = closed form (rounded to 8 bits)");
   }
   mapper->RemoveAllClippingPlanes();
   window->Render();
@@ -260,24 +256,9 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   // piecewise rays cannot be integrated and the frame says so (nothing drawn)
   // instead of colouring the vertices transparent.
   {
-    vtkNew<vtkImageData> extreme;
-    extreme->DeepCopy(volume);
-    vtkNew<vtkDoubleArray> values;
-    values->SetNumberOfTuples(extreme->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i)
-    {
-      values->SetValue(i, i % 2 ? 1.5e308 : -1.5e308);
-    }
-    extreme->GetPointData()->SetScalars(values);
-    vtkNew<vtkPiecewiseFunction> flat;
-    flat->AddPoint(-1.7e308, tau);
-    flat->AddPoint(1.7e308, tau);
-    vtkNew<vtkVolumeProperty> wide;
-    wide->SetInterpolationTypeToLinear();
-    wide->SetColor(property->GetRGBTransferFunction());
-    wide->SetScalarOpacity(flat);
-    mapper->SetVolumeData(extreme);
-    mapper->SetVolumeProperty(wide);
+    const overflowscene::Scene extreme(volume, tau);
+    mapper->SetVolumeData(extreme.Volume);
+    mapper->SetVolumeProperty(extreme.Property);
     mapper->SetIntegrationMethodToPiecewise();
     camera->Azimuth(1);
     window->Render();

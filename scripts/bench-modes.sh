@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Figures of docs/RESULTS.md for the mapper's modes beside VTK's mappers, on
+# Bonsai and Foot (800x600, 2 threads, VTK's opacity model, median of 3
+# frames), each image compared with a fine one of ours:
+#   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
+#   scripts/bench-modes.sh projections [BUILD_DIR]   section 6: additive and average
+#   scripts/bench-modes.sh intensity [BUILD_DIR]     section 4: maximum, minimum, clipped
+# Writes its images and reports into the current folder.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+part="${1:?usage: $0 shading|projections|intensity [BUILD_DIR]}"
+R="${2:-$root/build}/bin/avos-render"
+D="$root/../shared/data"
+
+# run DATASET LABEL REFERENCE ARGS...: renders, compares, prints one line.
+run() {
+  local ds="$1" label="$2" ref="$3"
+  shift 3
+  if ! xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 --frames 3 "$@" \
+    --compare "$ref" --report r.json > /dev/null 2>&1; then
+    echo "$ds $label: failed"
+    return
+  fi
+  python3 -c "
+import json; r = json.load(open('r.json')); c = r['compare']
+print('$ds', '$label', 'median %.3f s' % r['median_seconds'], 'max error R %.3g' % c['max_error_rgba'][0],
+      '% > 0.01 (R G B A):', ' '.join('%.3g' % v for v in c['percent_above_0.01']))"
+}
+reference() { # FILE ARGS...: ours, fine, once
+  local file="$1"
+  shift
+  xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 "$@" --output "$file" \
+    > /dev/null 2>&1
+}
+
+for ds in bonsai foot; do
+  if [ $ds = bonsai ]; then
+    volume=("$D/volumes/bonsai_zfp.vti" --tf "$D/tf/Bonsai.1.256x256x256.tf1d")
+  else
+    volume=("$D/volumes/foot_zfp.vti" --tf "$D/tf/Foot.tf1d")
+  fi
+  case "$part" in
+    shading)
+      reference $ds-shaded.exr --method coupled --tolerance 1e-4 --shade
+      for shade in "" --shade; do
+        for m in vtk-fixed-point riemann "coupled --tolerance 0.01" "coupled --tolerance 0.001"; do
+          # shellcheck disable=SC2086
+          run $ds "$m ${shade:-unshaded}" $ds-shaded.exr --method $m $shade
+        done
+      done ;;
+    projections)
+      for blend in additive average; do
+        reference $ds-$blend.exr --blend $blend --tolerance 1e-6
+        methods=("coupled --tolerance 0.01" "coupled --tolerance 0.001" vtk-gpu)
+        [ $blend = additive ] && methods+=(vtk-fixed-point)
+        for m in "${methods[@]}"; do
+          # shellcheck disable=SC2086
+          run $ds "$blend $m" $ds-$blend.exr --blend $blend --method $m
+        done
+      done ;;
+    intensity)
+      for blend in maximum minimum; do
+        reference $ds-$blend.exr --blend $blend --method piecewise
+        for m in piecewise vtk-fixed-point; do
+          run $ds "$blend $m" $ds-$blend.exr --blend $blend --method $m
+        done
+      done
+      # A clipping plane through the middle and the cross of cropping regions.
+      cut=(--clip 1,0.3,0.2,128,128,128 --crop 60,180,60,180,40,200 --crop-mode cross)
+      reference $ds-cut.exr --method piecewise --tolerance 1e-4 "${cut[@]}"
+      for m in "piecewise --tolerance 0.01" riemann vtk-fixed-point; do
+        # shellcheck disable=SC2086
+        run $ds "clipped, cropped $m" $ds-cut.exr --method $m "${cut[@]}"
+      done ;;
+    *) echo "unknown part $part" >&2; exit 2 ;;
+  esac
+done
