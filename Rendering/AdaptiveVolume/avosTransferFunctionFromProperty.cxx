@@ -134,6 +134,11 @@ std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, bool 
     return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
            "opacity, no 2D transfer function";
   }
+  if (property->GetUseClippedVoxelIntensity())
+  {
+    return "UseClippedVoxelIntensity (VTK's GPU mapper's fill of clipped voxels for gradients) is "
+           "not supported: clipping cuts the rays exactly";
+  }
   if (property->GetShade(0) && !shading)
   {
     return "Shading is not supported (emission-absorption model): turn the property's Shade off";

@@ -32,8 +32,8 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
  * Empty, or a sentence (no final stop) naming the property's settings that the ray
  * integrals do not honour (never ignored): nearest interpolation, a
  * gradient opacity that changes anything (VTK's default constant 1 is
- * accepted), a 2D transfer function, and shading unless `shading` (the
- * caller lights the emission).
+ * accepted), a 2D transfer function, UseClippedVoxelIntensity, and shading
+ * unless `shading` (the caller lights the emission).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
   vtkVolumeProperty* property, bool shading = false);

@@ -501,6 +501,9 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   expectError("positional light", "positional lights are not supported");
   scene.Renderer->RemoveLight(lamp);
   scene.Property->ShadeOff();
+  scene.Property->UseClippedVoxelIntensityOn();
+  expectError("clipped voxel intensity", "UseClippedVoxelIntensity");
+  scene.Property->UseClippedVoxelIntensityOff();
   scene.Property->SetInterpolationTypeToNearest();
   expectError("nearest interpolation", "Only trilinear interpolation");
   scene.Property->SetInterpolationTypeToLinear();
