@@ -23,6 +23,7 @@ namespace methodgrid
 struct Grid
 {
   std::vector<vtkSmartPointer<vtkAdaptiveVolumeMapper>> Mappers;
+  std::vector<vtkSmartPointer<vtkVolume>> Volumes;
   std::vector<vtkSmartPointer<vtkRenderer>> Renderers;
 };
 
@@ -42,7 +43,7 @@ inline Grid Build(vtkRenderWindow* window, vtkAlgorithmOutput* volume, vtkVolume
     mapper->SetInputConnection(volume);
     mapper->SetIntegrationMethod(methods[i]);
     mapper->SetOpacityModel(opacityModel);
-    vtkNew<vtkVolume> actor;
+    auto actor = vtkSmartPointer<vtkVolume>::New();
     actor->SetMapper(mapper);
     actor->SetProperty(property);
     auto renderer = vtkSmartPointer<vtkRenderer>::New();
@@ -60,6 +61,7 @@ inline Grid Build(vtkRenderWindow* window, vtkAlgorithmOutput* volume, vtkVolume
     renderer->GetActiveCamera()->Zoom(1.6);
     renderer->ResetCameraClippingRange();
     grid.Mappers.push_back(mapper);
+    grid.Volumes.push_back(actor);
     grid.Renderers.push_back(renderer);
   }
   return grid;
