@@ -184,7 +184,7 @@ public:
   avos::numerics::RayResult<double> Cast(const glm::dvec3& vertex, const glm::dvec3& direction,
     double maximumLength = std::numeric_limits<double>::infinity()) const
   {
-    avos::numerics::RayResult<double> none;
+    avos::numerics::RayResult<double> result; // transparent where the ray meets nothing
     const double* m = this->Setup.WorldToGrid;
     auto toGrid = [m](const glm::dvec3& p, double w)
     {
@@ -197,7 +197,7 @@ public:
     double t0 = 0.0, t1 = maximumLength / this->Setup.Voxel;
     if (!avos::numerics::ClipToGrid(start, step, this->Setup.Dimensions, t0, t1))
     {
-      return none;
+      return result;
     }
     const double D = t1 - t0;
     const glm::dvec3 origin = start + t1 * step;
@@ -225,7 +225,7 @@ public:
     }
     if (segments.empty())
     {
-      return none;
+      return result;
     }
     if (this->Setup.Method == RayIntegration::Adaptive)
     {
@@ -245,8 +245,8 @@ public:
       avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &back.x, D,
         this->Setup.SampleDistance, segments.data(), segments.size(),
         0.2 * this->Setup.Settings.Tolerance, out);
-      none.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-      return none;
+      result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+      return result;
     }
     return avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
       avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),
