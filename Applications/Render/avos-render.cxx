@@ -68,7 +68,7 @@ const char* Usage =
   "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
   "Steps (--step, --h0, --hmin, --hmax) are in voxel units within [0.001, 1000]; --threads 0\n"
   "(the default) uses every core, at most 1024; --frames at most 100000; --size at most\n"
-  "16384x16384 (OpenGL's largest window; the float image then takes 4 GiB).\n"
+  "16384x16384 (a common OpenGL limit; the float image then takes 4 GiB).\n"
   "--compare: per RGBA channel, the percentage of pixels whose error against REF.exr (a\n"
   "float image of the same size, e.g. --method reference) exceeds 0.01, 0.005, 0.001, over\n"
   "the pixels where either image is not transparent; in the report too.\n"
