@@ -23,24 +23,12 @@
 
 namespace
 {
-void Require(bool ok, const char* what)
-{
-  if (!ok)
-  {
-    std::fprintf(stderr, "fuzz: violated: %s\n", what);
-    std::abort();
-  }
-}
+using avosfuzz::Require;
 
 // One file per process, rewritten for every input.
 const std::string& InputPath()
 {
-  static const std::string path = []
-  {
-    char folder[] = "/tmp/avos-fuzz-tf1d-XXXXXX";
-    Require(mkdtemp(folder) != nullptr, "a temporary folder");
-    return std::string(folder) + "/input.tf1d";
-  }();
+  static const std::string path = avosfuzz::TemporaryFolder("avos-fuzz-tf1d") + "/input.tf1d";
   return path;
 }
 

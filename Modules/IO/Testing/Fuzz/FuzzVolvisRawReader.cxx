@@ -26,23 +26,11 @@
 
 namespace
 {
-void Require(bool ok, const char* what)
-{
-  if (!ok)
-  {
-    std::fprintf(stderr, "fuzz: violated: %s\n", what);
-    std::abort();
-  }
-}
+using avosfuzz::Require;
 
 const std::string& Folder()
 {
-  static const std::string folder = []
-  {
-    char name[] = "/tmp/avos-fuzz-raw-XXXXXX";
-    Require(mkdtemp(name) != nullptr, "a temporary folder");
-    return std::string(name);
-  }();
+  static const std::string folder = avosfuzz::TemporaryFolder("avos-fuzz-raw");
   return folder;
 }
 
