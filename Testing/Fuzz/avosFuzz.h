@@ -1,11 +1,13 @@
 // What every fuzz target needs: a requirement whose violation is a crash for
-// libFuzzer, and a private temporary folder for the inputs the readers read
-// from files.
+// libFuzzer, and a private temporary folder and files for the inputs the
+// readers read from files.
 #ifndef avosFuzz_h
 #define avosFuzz_h
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <unistd.h>
 
@@ -20,7 +22,15 @@ inline void Require(bool ok, const char* what)
   }
 }
 
-// A new folder under /tmp named after `prefix`, made once per process.
+// Writes `size` bytes to `path` (replacing it).
+inline void WriteFile(const std::string& path, const std::uint8_t* data, std::size_t size)
+{
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  Require(static_cast<bool>(file), "the input written");
+}
+
+// A new folder under /tmp named after `prefix`.
 inline std::string TemporaryFolder(const std::string& prefix)
 {
   std::string name = "/tmp/" + prefix + "-XXXXXX";

@@ -18,7 +18,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <string>
 
 namespace
@@ -56,11 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return true;
   }();
   (void)quiet;
-  {
-    std::ofstream file(InputPath(), std::ios::binary | std::ios::trunc);
-    file.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-    Require(static_cast<bool>(file), "the input written");
-  }
+  avosfuzz::WriteFile(InputPath(), data, size);
 
   vtkNew<vtkTransferFunction1DReader> reader;
   vtkNew<vtkTest::ErrorObserver> errors;

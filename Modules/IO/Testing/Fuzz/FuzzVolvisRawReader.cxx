@@ -21,7 +21,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <string>
 
 namespace
@@ -72,11 +71,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = Folder() + "/" + name;
   const std::uint8_t* content = data + 3 + nameLength;
   const std::size_t contentSize = size - 3 - nameLength;
-  {
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    file.write(reinterpret_cast<const char*>(content), static_cast<std::streamsize>(contentSize));
-    Require(static_cast<bool>(file), "the input written");
-  }
+  avosfuzz::WriteFile(path, content, contentSize);
 
   vtkNew<vtkVolvisRawReader> reader;
   vtkNew<vtkTest::ErrorObserver> errors;

@@ -1,14 +1,17 @@
 // One window, four viewports: the same volume and property rendered by
 // vtkAdaptiveVolumeMapper with each integration method (Riemann, coupled,
 // decoupled, reference; left to right, bottom to top), for image regression
-// tests that cover every method with one baseline.
+// tests that cover every method with one baseline; and the volume they render.
 #ifndef MethodGrid_h
 #define MethodGrid_h
 
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
 #include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -26,6 +29,29 @@ struct Grid
   std::vector<vtkSmartPointer<vtkVolume>> Volumes;
   std::vector<vtkSmartPointer<vtkRenderer>> Renderers;
 };
+
+// The analytic sphere-distance volume (40^3, scalars 0..173) as a glowing
+// shell around an opaque core, in VTK's opacity semantics.
+inline void MakeShell(vtkAnalyticVolumeSource* source, vtkVolumeProperty* property)
+{
+  source->SetFunctionToSphereDistance();
+  source->SetDimensions(40, 40, 40);
+  source->SetScalarScale(100.0); // distance 0..1.73 -> scalars 0..173
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(0.0, 1.0, 0.9, 0.3);
+  color->AddRGBPoint(50.0, 0.9, 0.3, 0.1);
+  color->AddRGBPoint(80.0, 0.2, 0.4, 1.0);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 0.8);
+  opacity->AddPoint(30.0, 0.0);
+  opacity->AddPoint(70.0, 0.0);
+  opacity->AddPoint(80.0, 0.3);
+  opacity->AddPoint(95.0, 0.0);
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+  property->SetInterpolationTypeToLinear();
+  property->SetScalarOpacityUnitDistance(0.05);
+}
 
 // Fills `window` (sized by the caller) with the four viewports. `decorate`
 // may add props to each renderer; the camera is reset, then turned.

@@ -4,9 +4,7 @@
 // front and visible in front of it (depth-buffer compositing).
 #include "vtkActor.h"
 #include "vtkAnalyticVolumeSource.h"
-#include "vtkColorTransferFunction.h"
 #include "vtkConeSource.h"
-#include "vtkPiecewiseFunction.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
 
@@ -16,25 +14,8 @@
 int TestAdaptiveVolumeMapperMethods(int argc, char* argv[])
 {
   vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetFunctionToSphereDistance();
-  source->SetDimensions(40, 40, 40);
-  source->SetScalarScale(100.0); // distance 0..1.73 -> scalars 0..173
-
-  vtkNew<vtkColorTransferFunction> color;
-  color->AddRGBPoint(0.0, 1.0, 0.9, 0.3);
-  color->AddRGBPoint(50.0, 0.9, 0.3, 0.1);
-  color->AddRGBPoint(80.0, 0.2, 0.4, 1.0);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0.0, 0.8);
-  opacity->AddPoint(30.0, 0.0);
-  opacity->AddPoint(70.0, 0.0);
-  opacity->AddPoint(80.0, 0.3);
-  opacity->AddPoint(95.0, 0.0);
   vtkNew<vtkVolumeProperty> property;
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  property->SetInterpolationTypeToLinear();
-  property->SetScalarOpacityUnitDistance(0.05);
+  methodgrid::MakeShell(source, property);
 
   vtkNew<vtkConeSource> cone;
   cone->SetResolution(24);

@@ -7,8 +7,6 @@
 // composite integral cut by a clipping plane and cropped to a sub-volume
 // (reference).
 #include "vtkAnalyticVolumeSource.h"
-#include "vtkColorTransferFunction.h"
-#include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
 
 #include "MethodGrid.h"
@@ -17,27 +15,10 @@
 int TestAdaptiveVolumeMapperModes(int argc, char* argv[])
 {
   vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetFunctionToSphereDistance();
-  source->SetDimensions(40, 40, 40);
-  source->SetScalarScale(100.0); // distance 0..1.73 -> scalars 0..173
-
-  vtkNew<vtkColorTransferFunction> color;
-  color->AddRGBPoint(0.0, 1.0, 0.9, 0.3);
-  color->AddRGBPoint(50.0, 0.9, 0.3, 0.1);
-  color->AddRGBPoint(80.0, 0.2, 0.4, 1.0);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0.0, 0.8);
-  opacity->AddPoint(30.0, 0.0);
-  opacity->AddPoint(70.0, 0.0);
-  opacity->AddPoint(80.0, 0.3);
-  opacity->AddPoint(95.0, 0.0);
   vtkNew<vtkVolumeProperty> property, shaded, thin;
   for (vtkVolumeProperty* p : { property.GetPointer(), shaded.GetPointer(), thin.GetPointer() })
   {
-    p->SetColor(color);
-    p->SetScalarOpacity(opacity);
-    p->SetInterpolationTypeToLinear();
-    p->SetScalarOpacityUnitDistance(0.05);
+    methodgrid::MakeShell(source, p);
   }
   shaded->ShadeOn();
   thin->SetScalarOpacityUnitDistance(0.5);
