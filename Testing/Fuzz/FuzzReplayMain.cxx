@@ -10,9 +10,15 @@
 #include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
+// Optional, as with libFuzzer: a target's one-time set-up.
+extern "C" __attribute__((weak)) int LLVMFuzzerInitialize(int* argc, char*** argv);
 
 int main(int argc, char* argv[])
 {
+  if (LLVMFuzzerInitialize)
+  {
+    LLVMFuzzerInitialize(&argc, &argv);
+  }
   for (int i = 1; i < argc; ++i)
   {
     std::ifstream file(argv[i], std::ios::binary);
