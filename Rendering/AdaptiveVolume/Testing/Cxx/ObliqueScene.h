@@ -1,4 +1,5 @@
-// The closed-form tests' scene: a volume on [-1, 1]^3 in one window, seen
+// The closed-form tests' scene: a volume on [-1, 1]^3 rendered by a
+// vtkAdaptiveVolumeMapper in one window, seen
 // through an orthographic camera turned 30 degrees in azimuth and 35 in
 // elevation (no ray along an axis), and each pixel's ray rebuilt from the
 // renderer independently of the mapper, clipped to the box; the ramp volume
@@ -6,6 +7,7 @@
 #ifndef ObliqueScene_h
 #define ObliqueScene_h
 
+#include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -27,12 +29,18 @@ namespace obliquescene
 {
 struct Scene
 {
+  vtkNew<vtkAdaptiveVolumeMapper> Mapper;
+  vtkNew<vtkVolume> Volume;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderWindow> Window;
 
-  Scene(vtkVolume* volume, int size)
+  // `source`'s volume rendered by Mapper with `property`, in a size x size window.
+  Scene(vtkAlgorithm* source, vtkVolumeProperty* property, int size)
   {
-    this->Renderer->AddVolume(volume);
+    this->Mapper->SetInputConnection(source->GetOutputPort());
+    this->Volume->SetMapper(this->Mapper);
+    this->Volume->SetProperty(property);
+    this->Renderer->AddVolume(this->Volume);
     this->Window->SetOffScreenRendering(1);
     this->Window->SetSize(size, size);
     this->Window->AddRenderer(this->Renderer);

@@ -130,15 +130,12 @@ int TestAdaptiveVolumeMapperClipping(int, char*[])
   vtkNew<vtkPlane> plane;
   plane->SetOrigin(PlaneOrigin[0], PlaneOrigin[1], PlaneOrigin[2]);
   plane->SetNormal(PlaneNormal[0], PlaneNormal[1], PlaneNormal[2]);
-  vtkNew<vtkAdaptiveVolumeMapper> mapper;
-  mapper->SetInputConnection(source->GetOutputPort());
+  obliquescene::Scene scene(source, property, Size);
+  vtkAdaptiveVolumeMapper* mapper = scene.Mapper;
+  vtkVolume* volume = scene.Volume;
   mapper->SetOpacityModelToExtinction();
   mapper->SetCroppingRegionPlanes(Crop);
   mapper->SetCroppingRegionFlags(CropFlags);
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  volume->SetProperty(property);
-  obliquescene::Scene scene(volume, Size);
   vtkRenderer* renderer = scene.Renderer;
   vtkRenderWindow* window = scene.Window;
 

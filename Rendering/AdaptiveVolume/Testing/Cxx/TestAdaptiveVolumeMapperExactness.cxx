@@ -73,13 +73,9 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
   vtkNew<vtkVolumeProperty> property;
   obliquescene::FillProperty(Knots, property, &tf);
 
-  vtkNew<vtkAdaptiveVolumeMapper> mapper;
-  mapper->SetInputConnection(source->GetOutputPort());
+  obliquescene::Scene scene(source, property, Size);
+  vtkAdaptiveVolumeMapper* mapper = scene.Mapper;
   mapper->SetOpacityModelToExtinction();
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  volume->SetProperty(property);
-  obliquescene::Scene scene(volume, Size);
   vtkRenderer* renderer = scene.Renderer;
   vtkRenderWindow* window = scene.Window;
 

@@ -150,12 +150,9 @@ int TestAdaptiveVolumeMapperProjection(int, char*[])
   vtkNew<vtkVolumeProperty> property;
   obliquescene::FillProperty(Knots, property);
 
-  vtkNew<vtkAdaptiveVolumeMapper> mapper;
-  mapper->SetInputConnection(source->GetOutputPort());
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  volume->SetProperty(property);
-  obliquescene::Scene scene(volume, Size);
+  obliquescene::Scene scene(source, property, Size);
+  vtkAdaptiveVolumeMapper* mapper = scene.Mapper;
+  vtkVolume* volume = scene.Volume;
   vtkRenderer* renderer = scene.Renderer;
   vtkRenderWindow* window = scene.Window;
 
