@@ -906,7 +906,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 
   // The average projection's range, within the data's (VTK's default range
   // is the whole float line), as pieces that mark it.
-  const double* dataRange = scalars->GetRange(0);
+  double dataRange[2];
+  scalars->GetRange(dataRange, 0);
   if (this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
   {
     const double r0 = std::max(this->AverageIPScalarRange[0], dataRange[0]);
@@ -1070,8 +1071,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Blend = this->BlendMode;
     method.Adaptive = adaptive;
     // Trilinear values never leave the data's range.
-    method.Adaptive.FieldMinimum = scalars->GetRange(0)[0];
-    method.Adaptive.FieldMaximum = scalars->GetRange(0)[1];
+    method.Adaptive.FieldMinimum = dataRange[0];
+    method.Adaptive.FieldMaximum = dataRange[1];
     method.SampleDistance = this->SampleDistance;
     method.TerminationBound = 0.2 * this->Tolerance;
     method.Range = &internals.AverageRange;
