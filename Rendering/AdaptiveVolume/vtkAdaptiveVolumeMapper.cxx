@@ -904,10 +904,12 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
   }
 
-  // The average projection's range, within the data's (VTK's default range
-  // is the whole float line), as pieces that mark it.
+  // The data's range: bounds of the trilinear field, and the projections'
+  // normalisation.
   double dataRange[2];
   scalars->GetRange(dataRange, 0);
+  // The average projection's range, within the data's (VTK's default range
+  // is the whole float line), as pieces that mark it.
   if (this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
   {
     const double r0 = std::max(this->AverageIPScalarRange[0], dataRange[0]);
