@@ -311,6 +311,61 @@ TEST(Piecewise, BadInput)
   EXPECT_EQ(p.Build(alpha, 1e-4), "");
 }
 
+// ClassifyRange answers what its definition says, through its integer
+// tables (integral knots, integral and other range ends, zero opacity pieces,
+// jumps, the alpha model's extra knots) and without them (a span over 2^16
+// units, knots beyond 2^52): the piece of lo, a knot strictly inside (lo, hi),
+// a visible piece between those of lo and hi.
+TEST(Piecewise, ClassifyRangeEqualsItsDefinition)
+{
+  std::vector<an::TransferFunction<double>> tfs;
+  for (unsigned seed = 0; seed < 12; ++seed)
+  {
+    tfs.push_back(adversarial::Random(seed, 3 + 20 * (seed % 3), 2.0, 255.0, seed % 2 == 0));
+    if (seed % 4 == 1)
+    {
+      tfs.back().SetOpacityModel(an::OpacityModel::Alpha, 1.0);
+      tfs.back().Finalize();
+    }
+  }
+  tfs.push_back(adversarial::Random(3, 10, 2.0, 1e6, true));
+  an::TransferFunction<double> far;
+  far.AddOpacityKnot(1e17, 0.0);
+  far.AddOpacityKnot(1e17 + 64.0, 1.0);
+  far.AddColorKnot(1e17, 1.0, 1.0, 1.0);
+  far.Finalize();
+  tfs.push_back(far);
+  for (const auto& tf : tfs)
+  {
+    an::PiecewiseTransferFunction<double> p;
+    ASSERT_EQ(p.Build(tf, 1e-3), "");
+    const std::vector<double>& knots = p.GetKnots();
+    std::vector<double> ends{ knots.front() - 1.0, knots.back() + 1.0 };
+    for (double k : knots)
+    {
+      ends.insert(
+        ends.end(), { k, std::floor(k), std::ceil(k), k + 0.5, std::nextafter(k, 1e300) });
+    }
+    for (std::size_t i = 0; i < ends.size(); ++i)
+    {
+      for (std::size_t j = i; j < ends.size(); j += 1 + ends.size() / 97)
+      {
+        const double lo = std::min(ends[i], ends[j]), hi = std::max(ends[i], ends[j]);
+        const auto c = p.ClassifyRange(lo, hi);
+        const std::size_t first = p.Locate(lo), last = p.Locate(hi);
+        bool visible = false;
+        for (std::size_t k = first; k <= last; ++k)
+        {
+          visible = visible || p.IsVisible(k);
+        }
+        ASSERT_EQ(c.First, first) << lo << " " << hi;
+        ASSERT_EQ(c.Crossings, p.CountBelow(hi) > first) << lo << " " << hi;
+        ASSERT_EQ(c.Visible, visible) << lo << " " << hi;
+      }
+    }
+  }
+}
+
 // Locate's bucket grid answers exactly what std::upper_bound does, and
 // CountBelow what std::lower_bound does, on knots with clusters and jumps,
 // at the knots themselves and next to them.

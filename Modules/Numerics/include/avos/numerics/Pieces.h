@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <utility>
@@ -167,6 +168,7 @@ public:
     }
     this->MaximumColor = tf.GetMaximumColor();
     this->Locator.Build(std::move(knots));
+    this->BuildUnitCounts();
     return std::string();
   }
 
@@ -198,11 +200,36 @@ public:
     return this->VisibleBefore[i + 1] > this->VisibleBefore[i];
   }
 
-  // True when tau > 0 somewhere in [lo, hi].
-  bool AnyVisible(Real lo, Real hi) const
+  // What a cell whose scalar stays within [lo, hi] (its corners' range, lo
+  // <= hi, both finite) holds.
+  struct RangeClass
   {
-    const std::size_t first = this->Locate(lo), last = this->Locate(hi);
-    return this->VisibleBefore[last + 1] > this->VisibleBefore[first];
+    std::size_t First; // the piece of lo: the cell's only one without crossings
+    bool Crossings;    // a knot lies strictly inside (lo, hi)
+    bool Visible;      // tau > 0 somewhere in [lo, hi]
+  };
+
+  // The answer Locate and CountBelow give, from two table reads
+  // when lo and hi are integers within the knots' span (8- and 16-bit data:
+  // every cell's corners), else from the knot search.
+  RangeClass ClassifyRange(Real lo, Real hi) const
+  {
+    RangeClass c;
+    std::size_t l, h;
+    if (this->UnitIndex(lo, l) && this->UnitIndex(hi, h))
+    {
+      c.First = this->UnitUpper[l];
+      c.Crossings = this->UnitBelow[h] > c.First;
+      const std::size_t last = c.Crossings ? this->UnitUpper[h] : c.First;
+      c.Visible = this->VisibleBefore[last + 1] > this->VisibleBefore[c.First];
+      return c;
+    }
+    const std::vector<Real>& knots = this->GetKnots();
+    c.First = this->Locate(lo);
+    c.Crossings = c.First < knots.size() && knots[c.First] < hi;
+    const std::size_t last = c.Crossings ? this->Locate(hi) : c.First;
+    c.Visible = this->VisibleBefore[last + 1] > this->VisibleBefore[c.First];
+    return c;
   }
 
 private:
@@ -272,9 +299,45 @@ private:
     return cuts;
   }
 
+  // Tables of Locate and CountBelow at the integers UnitBase + i covering the
+  // knots, where that span is at most 2^16 units and every such integer is
+  // exact in Real; empty otherwise.
+  void BuildUnitCounts()
+  {
+    this->UnitUpper.clear();
+    this->UnitBelow.clear();
+    const std::vector<Real>& knots = this->GetKnots();
+    const Real base = std::floor(knots.front()), top = std::ceil(knots.back());
+    const Real exact = Real(1) / std::numeric_limits<Real>::epsilon(); // 2^52 for double
+    if (!(top - base <= Real(65536) && std::abs(base) + Real(65537) < exact))
+    {
+      return;
+    }
+    this->UnitBase = base;
+    for (Real u = base; u <= top; u += Real(1))
+    {
+      this->UnitUpper.push_back(static_cast<std::uint32_t>(this->Locate(u)));
+      this->UnitBelow.push_back(static_cast<std::uint32_t>(this->CountBelow(u)));
+    }
+  }
+
+  // True with i = s - UnitBase when s is an integer the tables hold.
+  bool UnitIndex(Real s, std::size_t& i) const
+  {
+    const Real x = s - this->UnitBase;
+    if (!(x >= Real(0) && x < Real(this->UnitUpper.size())))
+    {
+      return false;
+    }
+    i = static_cast<std::size_t>(x);
+    return Real(i) == x;
+  }
+
   KnotLocator<Real> Locator; // the knots between the pieces
   std::vector<Piece> Pieces;
   std::vector<std::size_t> VisibleBefore;
+  Real UnitBase = Real(0);
+  std::vector<std::uint32_t> UnitUpper, UnitBelow;
   Real MaximumColor = Real(0);
 };
 
@@ -530,17 +593,21 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
       hi = std::max(hi, c[i]);
     }
     // The sum is finite only when every corner is (a NaN escapes min/max).
-    const bool finite = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
+    if (!std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]))
+    {
+      return true;
+    }
     // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
     // inside, the whole cell lies in one transfer-function piece (a corner
     // value on a knot is met at isolated points only): no crossing to find,
     // and nothing to do at all when that piece is transparent.
-    const std::size_t first = finite ? tf.Locate(lo) : 0;
-    const bool crossings = finite && first < knots.size() && knots[first] < hi;
-    if (!finite || !(crossings ? tf.AnyVisible(lo, hi) : tf.IsVisible(first)))
+    const auto range = tf.ClassifyRange(lo, hi);
+    if (!range.Visible)
     {
       return true;
     }
+    const std::size_t first = range.First;
+    const bool crossings = range.Crossings;
     ++cells;
     // The cubic in u = t - t (cell entry).
     const Cubic<Real> s = CellCubic(c,

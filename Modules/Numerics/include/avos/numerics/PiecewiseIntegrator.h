@@ -175,6 +175,10 @@ struct PieceDepth
 template <typename Real>
 void ShiftPolynomial(Real* c, int degree, Real v0)
 {
+  if (v0 == Real(0))
+  {
+    return; // the first sub-interval of every piece
+  }
   for (int i = 0; i < degree; ++i)
   {
     for (int j = degree - 1; j >= i; --j)
