@@ -26,6 +26,7 @@
 
 #include <array>
 #include <atomic>
+#include <limits>
 #include <vector>
 
 namespace
@@ -55,6 +56,99 @@ struct ViewKey
       this->Integration == o.Integration && this->Planes == o.Planes;
   }
 };
+
+// Which vertices get a ray: front-facing (their normal towards the eye) and
+// inside the view frustum.
+struct VertexView
+{
+  const double* M; // world to clip coordinates, row-major
+  glm::dvec3 Eye;
+  glm::dvec3 TowardsEye; // for a parallel projection
+  bool Parallel;
+
+  glm::dvec4 Clip(const glm::dvec3& p) const
+  {
+    const double* m = this->M;
+    return glm::dvec4(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+      m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7], m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11],
+      m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15]);
+  }
+
+  // True when the vertex at p with normal n is cast; `line` its unit
+  // direction towards the eye.
+  bool Casts(const glm::dvec3& p, const glm::dvec3& n, glm::dvec3& line) const
+  {
+    line = this->Parallel ? this->TowardsEye : glm::normalize(this->Eye - p);
+    const glm::dvec4 c = this->Clip(p);
+    return glm::dot(n, line) > 0.0 && c.w > 0.0 && std::abs(c.x) <= c.w && std::abs(c.y) <= c.w &&
+      std::abs(c.z) <= c.w;
+  }
+};
+
+// Covered pixels per cast vertex of `surface` on a width x height viewport:
+// the window area of its front-facing polygons with a vertex in the frustum,
+// over its vertices that get a ray. Hidden layers count in both, so the
+// ratio is the spacing of the vertices on the screen, about twice a
+// triangle's area. Infinite when no vertex is cast.
+double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int width, int height)
+{
+  const vtkIdType n = surface->GetNumberOfPoints();
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  std::vector<glm::dvec2> window(static_cast<std::size_t>(n));
+  std::vector<unsigned char> cast(static_cast<std::size_t>(n));
+  std::atomic<vtkIdType> count(0);
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      vtkIdType local = 0;
+      for (vtkIdType v = begin; v < end; ++v)
+      {
+        double p[3], nv[3];
+        surface->GetPoint(v, p);
+        normals->GetTuple(v, nv);
+        const glm::dvec3 point(p[0], p[1], p[2]);
+        glm::dvec3 line;
+        const std::size_t i = static_cast<std::size_t>(v);
+        cast[i] = view.Casts(point, glm::dvec3(nv[0], nv[1], nv[2]), line) ? 1 : 0;
+        local += cast[i];
+        const glm::dvec4 c = view.Clip(point);
+        // Behind the eye: no window position, and its polygons are skipped.
+        window[i] = c.w > 0.0
+          ? glm::dvec2((0.5 * c.x / c.w + 0.5) * width, (0.5 * c.y / c.w + 0.5) * height)
+          : glm::dvec2(std::numeric_limits<double>::quiet_NaN());
+      }
+      count += local;
+    });
+  if (count == 0)
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  double area = 0.0;
+  vtkCellArray* polys = surface->GetPolys();
+  vtkIdType size;
+  const vtkIdType* ids;
+  for (polys->InitTraversal(); polys->GetNextCell(size, ids);)
+  {
+    bool inside = false;
+    double twice = 0.0; // a fan's doubled signed area (counter-clockwise: front)
+    for (vtkIdType k = 0; k < size; ++k)
+    {
+      inside = inside || cast[static_cast<std::size_t>(ids[k])];
+      if (k >= 2)
+      {
+        const glm::dvec2 a = window[static_cast<std::size_t>(ids[0])];
+        const glm::dvec2 e1 = window[static_cast<std::size_t>(ids[k - 1])] - a;
+        const glm::dvec2 e2 = window[static_cast<std::size_t>(ids[k])] - a;
+        twice += e1.x * e2.y - e1.y * e2.x;
+      }
+    }
+    if (inside && twice > 0.0)
+    {
+      area += 0.5 * twice;
+    }
+  }
+  return area / static_cast<double>(count);
+}
 } // namespace
 
 class vtkVolumeOnSurfaceMapper::vtkInternals
@@ -73,10 +167,15 @@ public:
   std::vector<unsigned char> Known;
   int DrawnLevel = -1;
   double SecondsPerRay = 0.0;
+  double FullPixelsPerVertex = -1.0; // the full surface's for the view `Key`; < 0: unknown
   avos::EmptySpaceCache EmptySpace;
   avos::EngineVolume EngineScalars;
 
+  // The drawn level's geometry (shallow copy) and its colours, written in
+  // place: a new view uploads only the colours, not the geometry again.
   vtkNew<vtkPolyData> Drawn;
+  vtkNew<vtkUnsignedCharArray> Colors;
+  int GeometryLevel = -1;
   vtkSmartPointer<vtkPolyDataMapper> Delegate;
 };
 
@@ -145,6 +244,11 @@ vtkIdType vtkVolumeOnSurfaceMapper::GetSurfaceMemory(int level)
            (normals ? normals->GetActualMemorySize() : 0) + s->GetPolys()->GetActualMemorySize()) *
     1024 +
     4 * s->GetNumberOfPoints();
+}
+
+double vtkVolumeOnSurfaceMapper::GetScreenPixelsPerVertex()
+{
+  return this->Internals->FullPixelsPerVertex;
 }
 
 int vtkVolumeOnSurfaceMapper::GetNumberOfLevelsOfDetail()
@@ -249,26 +353,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     in.LevelsSource = surface;
     in.LevelsTime = surface->GetMTime();
     in.HaveKey = false;
+    in.GeometryLevel = -1;
   }
-
-  // The level: forced, or the finest whose estimated colouring time fits
-  // the frame time the window asks for.
-  int levelIndex = std::min(this->LevelOfDetail, static_cast<int>(in.Levels.size()) - 1);
-  if (this->LevelOfDetail < 0)
-  {
-    const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
-    const double budget = rate > 0.0 ? 1.0 / rate : VTK_DOUBLE_MAX;
-    levelIndex = static_cast<int>(in.Levels.size()) - 1;
-    for (int l = 0; l < static_cast<int>(in.Levels.size()); ++l)
-    {
-      if (in.SecondsPerRay * in.Levels[l].Surface->GetNumberOfPoints() <= budget)
-      {
-        levelIndex = l;
-        break;
-      }
-    }
-  }
-  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
 
   // The view.
   vtkCamera* camera = ren->GetActiveCamera();
@@ -278,6 +364,10 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   std::copy(projection->GetData(), projection->GetData() + 16, key.Projection.begin());
   camera->GetPosition(key.Eye.data());
   key.Parallel = camera->GetParallelProjection() != 0;
+  double direction[3];
+  camera->GetDirectionOfProjection(direction);
+  const VertexView view{ key.Projection.data(), glm::dvec3(key.Eye[0], key.Eye[1], key.Eye[2]),
+    -glm::dvec3(direction[0], direction[1], direction[2]), key.Parallel };
   key.Surface = surface->GetMTime();
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
@@ -294,12 +384,53 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       key.Planes.insert(key.Planes.end(), { o[0], o[1], o[2], n[0], n[1], n[2] });
     }
   }
-  if (!in.HaveKey || !(key == in.Key))
+  // The level: forced, or the coarser of two: the finest whose estimated
+  // colouring time fits the frame time the window asks for, and the coarsest
+  // whose cast vertices are still at most PixelsPerVertex covered pixels
+  // apart (more vertices add rays, not detail the screen can show).
+  const bool newView = !in.HaveKey || !(key == in.Key);
+  const int levels = static_cast<int>(in.Levels.size());
+  int levelIndex = std::min(this->LevelOfDetail, levels - 1);
+  if (this->LevelOfDetail < 0)
+  {
+    const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
+    const double budget = rate > 0.0 ? 1.0 / rate : VTK_DOUBLE_MAX;
+    levelIndex = levels - 1;
+    for (int l = 0; l < levels; ++l)
+    {
+      if (in.SecondsPerRay * in.Levels[l].Surface->GetNumberOfPoints() <= budget)
+      {
+        levelIndex = l;
+        break;
+      }
+    }
+    if (newView || in.FullPixelsPerVertex < 0.0)
+    {
+      const int* size = ren->GetSize();
+      in.FullPixelsPerVertex = ScreenPixelsPerVertex(in.Levels[0].Surface, view, size[0], size[1]);
+    }
+    int dense = 0;
+    const double full = static_cast<double>(in.Levels[0].Surface->GetNumberOfPoints());
+    for (int l = levels - 1; this->PixelsPerVertex > 0.0 && l > 0; --l)
+    {
+      const double points = static_cast<double>(in.Levels[l].Surface->GetNumberOfPoints());
+      if (in.FullPixelsPerVertex * full / points <= this->PixelsPerVertex)
+      {
+        dense = l;
+        break;
+      }
+    }
+    levelIndex = std::max(levelIndex, dense);
+  }
+  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+
+  if (newView)
   {
     in.FullColors.assign(static_cast<std::size_t>(surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
     in.Known.assign(in.FullColors.size(), 0);
     in.Key = key;
     in.HaveKey = true;
+    in.FullPixelsPerVertex = this->LevelOfDetail < 0 ? in.FullPixelsPerVertex : -1.0;
     in.DrawnLevel = -1;
   }
 
@@ -321,13 +452,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     setup.Engine = setup.Method == avos::RayIntegration::Levoy
       ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
       : nullptr;
-    double direction[3];
-    camera->GetDirectionOfProjection(direction);
-    const glm::dvec3 eye(key.Eye[0], key.Eye[1], key.Eye[2]);
-    const glm::dvec3 towardsEye = -glm::dvec3(direction[0], direction[1], direction[2]);
     vtkPolyData* s = level.Surface;
     vtkDataArray* normals = s->GetPointData()->GetNormals();
-    const double* m = projection->GetData();
     std::atomic<vtkIdType> rays(0), visible(0), reused(0);
     avos::RayFailures failures;
     auto colour = [&](const auto& caster)
@@ -343,14 +469,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
             s->GetPoint(v, p);
             normals->GetTuple(v, n);
             const glm::dvec3 point(p[0], p[1], p[2]);
-            const glm::dvec3 line = key.Parallel ? towardsEye : glm::normalize(eye - point);
-            // Front-facing and inside the frustum (clip coordinates).
-            const double cx = m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3];
-            const double cy = m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7];
-            const double cz = m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11];
-            const double cw = m[12] * p[0] + m[13] * p[1] + m[14] * p[2] + m[15];
-            if (glm::dot(glm::dvec3(n[0], n[1], n[2]), line) <= 0.0 || !(cw > 0.0) ||
-              std::abs(cx) > cw || std::abs(cy) > cw || std::abs(cz) > cw)
+            glm::dvec3 line;
+            if (!view.Casts(point, glm::dvec3(n[0], n[1], n[2]), line))
             {
               continue;
             }
@@ -360,7 +480,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
               ++localReused;
               continue;
             }
-            const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(eye - point);
+            const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
             const auto ray = caster.Cast(point, line, reach);
             if (!ray.Error.empty())
             {
@@ -392,17 +512,23 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     this->NumberOfVisibleVertices = visible;
     this->NumberOfReusedColors = reused;
 
-    vtkNew<vtkUnsignedCharArray> colors;
-    colors->SetName("VoSColors");
-    colors->SetNumberOfComponents(4);
-    colors->SetNumberOfTuples(s->GetNumberOfPoints());
+    if (in.GeometryLevel != levelIndex)
+    {
+      in.Drawn->ShallowCopy(s);
+      in.Colors->SetName("VoSColors");
+      in.Colors->SetNumberOfComponents(4);
+      in.Colors->SetNumberOfTuples(s->GetNumberOfPoints());
+      in.Drawn->GetPointData()->SetScalars(in.Colors);
+      in.Delegate->SetInputData(in.Drawn);
+      in.GeometryLevel = levelIndex;
+    }
+    unsigned char* rgba = in.Colors->GetPointer(0);
     for (vtkIdType v = 0; v < s->GetNumberOfPoints(); ++v)
     {
-      colors->SetTypedTuple(v, in.FullColors[static_cast<std::size_t>(level.FullIds[v])].data());
+      const auto& c = in.FullColors[static_cast<std::size_t>(level.FullIds[v])];
+      std::copy(c.begin(), c.end(), rgba + 4 * v);
     }
-    in.Drawn->ShallowCopy(s);
-    in.Drawn->GetPointData()->SetScalars(colors);
-    in.Delegate->SetInputData(in.Drawn);
+    in.Colors->Modified();
     in.DrawnLevel = levelIndex;
   }
   this->LastLevelOfDetail = levelIndex;
@@ -433,6 +559,7 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
     os << " " << r;
   }
   os << "\n" << indent << "LevelOfDetail: " << this->LevelOfDetail << "\n";
+  os << indent << "PixelsPerVertex: " << this->PixelsPerVertex << "\n";
   os << indent << "LastLevelOfDetail: " << this->LastLevelOfDetail << "\n";
   os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";
   os << indent << "NumberOfVisibleVertices: " << this->NumberOfVisibleVertices << "\n";

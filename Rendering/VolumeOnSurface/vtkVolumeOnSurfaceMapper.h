@@ -14,10 +14,12 @@
  *
  * Levels of detail: the surface is decimated with vtkOpenMeshDecimation to
  * each of LevelOfDetailReductions (default 0, 0.5, 0.9; built once per
- * surface). With LevelOfDetail -1 (the default) the mapper picks, from the
- * render window's desired update rate and the time per ray of its last
- * render, the finest level that fits (coarse while interacting, full when
- * still); a level can also be forced. Decimated vertices are a subset of the
+ * surface). With LevelOfDetail -1 (the default) the mapper picks the coarser
+ * of two levels: the finest that fits the render window's desired update
+ * rate at the time per ray of its last render (coarse while interacting),
+ * and the coarsest whose cast vertices are still about PixelsPerVertex
+ * covered pixels apart on the screen (a far or small surface needs fewer
+ * rays); a level can also be forced. Decimated vertices are a subset of the
  * full surface's (their original ids), so colours already computed for the
  * same view are reused across levels instead of cast again.
  *
@@ -121,6 +123,23 @@ public:
 
   ///@{
   /**
+   * The automatic level's screen density: the coarsest level whose cast
+   * vertices (front-facing, in the frustum) have at most this many covered
+   * pixels each is enough; finer ones cast more rays than the screen shows.
+   * Default 2 (one ray per one to two pixels); 0 turns the density rule off.
+   */
+  vtkSetClampMacro(PixelsPerVertex, double, 0.0, 1.0e6);
+  vtkGetMacro(PixelsPerVertex, double);
+  ///@}
+
+  /**
+   * The full surface's covered pixels per cast vertex that the last
+   * automatic choice of level saw (-1 when the level was forced).
+   */
+  double GetScreenPixelsPerVertex();
+
+  ///@{
+  /**
    * The last render: rays cast (0 when nothing changed), visible vertices,
    * colours reused from another level, seconds spent colouring.
    */
@@ -165,6 +184,7 @@ protected:
   vtkTypeBool EmptySpaceSkipping = 1;
   int LevelOfDetail = -1;
   int LastLevelOfDetail = -1;
+  double PixelsPerVertex = 2.0;
   vtkIdType NumberOfRaysCast = 0;
   vtkIdType NumberOfVisibleVertices = 0;
   vtkIdType NumberOfReusedColors = 0;

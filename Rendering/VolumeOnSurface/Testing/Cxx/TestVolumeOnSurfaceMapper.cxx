@@ -169,6 +169,24 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   window->SetDesiredUpdateRate(0.0001);
   window->Render();
   Expect(mapper->GetLastLevelOfDetail() == 0, "still: the full surface");
+  // Screen density: the grid covers 1.8 / 2.4 of the 64 pixels each way, so
+  // its 31 x 31 cast vertices have 48^2 / 961 pixels each: above the default
+  // 2, the full surface is kept.
+  // (Within 1e-6 relative: VTK's camera matrices carry rounding of 5e-8.)
+  Expect(std::abs(mapper->GetScreenPixelsPerVertex() / (48.0 * 48.0 / n) - 1.0) < 1e-6,
+    "covered pixels per vertex = closed form");
+  // Five times farther: 0.096 pixels per vertex; the 90 % level (about 100
+  // vertices, about 1 pixel each) is enough, unless the rule is off.
+  camera->SetParallelScale(6.0);
+  window->Render();
+  Expect(std::abs(mapper->GetScreenPixelsPerVertex() / (9.6 * 9.6 / n) - 1.0) < 1e-6,
+    "covered pixels per vertex, zoomed out");
+  Expect(mapper->GetLastLevelOfDetail() == 2, "a small surface: the coarsest level suffices");
+  mapper->SetPixelsPerVertex(0.0);
+  window->Render();
+  Expect(mapper->GetLastLevelOfDetail() == 0, "density rule off: the full surface");
+  mapper->SetPixelsPerVertex(2.0);
+  camera->SetParallelScale(1.2);
 
   // Empty-space skipping: a blob above the grid in a transparent volume. The
   // rays cross transparent blocks; a Riemann sum gives the same bytes with
