@@ -12,9 +12,16 @@ isosurfaces have the size of the paper's, about 10^5 vertices), 800x600 and
   fixed-point mapper (h 0.5), at both sizes.
 - Figure 10 and Table IV: VoS^M* on the isosurface decimated 0/25/50/75/90 %
   by vtkOpenMeshDecimation: time per frame and isosurface memory.
+- VoS^M* auto: the mapper's automatic level of detail over the same five
+  levels (a still window: the screen-density rule picks the level).
 - Quality: PSNR and SSIM (avos-compare) of every technique's first frame
   against the ray-cast reference (vtkAdaptiveVolumeMapper, coupled Simpson,
-  eps 0.001) on the same camera; images saved.
+  eps 0.001) on the same camera, and the PSNR over the surface's footprint
+  only (the pixels an unlit drawing of the isosurface covers), where VoS
+  has something to show; images saved, and one labelled figure per dataset.
+
+Every window renders without multisampling (VTK's default 8x costs every
+technique and doubles a mesh draw on llvmpipe).
 
 Writes report.md, results.csv and images/ into the output folder:
 
@@ -30,14 +37,18 @@ import statistics
 import subprocess
 import time
 
+import math
+
 import avos
 from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D
 from vtkmodules.vtkImagingCore import vtkExtractVOI
-from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
-from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderWindow, vtkRenderer,
-                                         vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
+from vtkmodules.vtkRenderingCore import (vtkActor, vtkImageActor, vtkPolyDataMapper,
+                                         vtkRenderWindow, vtkRenderer, vtkTextActor, vtkVolume,
+                                         vtkVolumeProperty, vtkWindowToImageFilter)
 from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
+import vtkmodules.vtkRenderingFreeType  # noqa: F401  (the figures' labels)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (volume display helper)
 
@@ -45,12 +56,16 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "..", "shared", "data")
 COMPARE = os.path.join(ROOT, "build", "bin", "avos-compare")
 
-# Volume, transfer function, isovalue (where the transfer function's opacity
-# rises: bone for Foot, the plant for Bonsai, the metal for Engine).
+# Volume, transfer function, isovalue where the transfer function shows the
+# surface: bone for Foot, the plant for Bonsai, the metal for Engine; and what
+# the scene changes in the transfer function. Foot.tf1d gives the air
+# (scalar 0) opacity 0.3, which makes the ray-cast image a fog box in front
+# of everything: its first opacity knot is set to 0 here, so the bone
+# (opacity from scalar 170 on) is what both techniques show.
 DATASETS = {
-    "Foot": ("foot_zfp.vti", "Foot.tf1d", 80),
-    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.linear.tf1d", 50),
-    "Engine": ("engine_zfp.vti", "Engine.1.256x256x128.linear.tf1d", 120),
+    "Foot": ("foot_zfp.vti", "Foot.tf1d", 185, "air opacity 0.3 -> 0"),
+    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.linear.tf1d", 50, ""),
+    "Engine": ("engine_zfp.vti", "Engine.1.256x256x128.linear.tf1d", 120, ""),
 }
 SIZES = [(800, 600), (400, 300)]
 REDUCTIONS = [0.0, 0.25, 0.5, 0.75, 0.9]
@@ -61,7 +76,7 @@ PAPER_FOOT = {"vertices": 120720, "polygons": 238816,
 
 
 def load(name):
-    volume_file, tf_file, iso = DATASETS[name]
+    volume_file, tf_file, iso, _ = DATASETS[name]
     reader = vtkXMLImageDataReader()
     reader.SetFileName(os.path.join(DATA, "volumes", volume_file))
     volume = vtkExtractVOI()
@@ -76,7 +91,7 @@ def load(name):
     return volume, surface, os.path.join(DATA, "tf", tf_file)
 
 
-def make_property(tf_path):
+def make_property(tf_path, name):
     tf = avos.vtkTransferFunction1DReader()
     tf.SetFileName(tf_path)
     tf.SetOpacityModelToVTK()
@@ -85,6 +100,11 @@ def make_property(tf_path):
     prop.SetInterpolationTypeToLinear()
     if not tf.FillVolumeProperty(prop):
         raise SystemExit("cannot read " + tf_path)
+    if DATASETS[name][3]:
+        opacity = prop.GetScalarOpacity()
+        knot = [0.0] * 4
+        opacity.GetNodeValue(0, knot)
+        opacity.SetNodeValue(0, [knot[0], 0.0, knot[2], knot[3]])
     return prop
 
 
@@ -95,6 +115,7 @@ class Scene:
         self.window = vtkRenderWindow()
         self.window.SetOffScreenRendering(1)
         self.window.SetSize(*size)
+        self.window.SetMultiSamples(0)
         self.renderer = vtkRenderer()
         self.renderer.SetBackground(0, 0, 0)
         self.window.AddRenderer(self.renderer)
@@ -149,6 +170,89 @@ def tf_wiggle(prop):
     return change, lambda: change(1)
 
 
+def pixels(path):
+    """The RGB bytes of a PNG, row by row, and its width."""
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    data = reader.GetOutput()
+    scalars = data.GetPointData().GetScalars()
+    n = scalars.GetNumberOfComponents()
+    raw = bytes(memoryview(scalars))
+    rgb = raw if n == 3 else bytes(b for i, b in enumerate(raw) if i % n < 3)
+    return rgb, data.GetDimensions()[0]
+
+
+def masked_psnr(image, reference, mask):
+    """PSNR (dB, RGB, 8-bit) over the pixels where `mask` is not black."""
+    a, b, m = pixels(image)[0], pixels(reference)[0], pixels(mask)[0]
+    total, count = 0, 0
+    for i in range(0, len(m), 3):
+        if m[i] or m[i + 1] or m[i + 2]:
+            count += 3
+            total += sum((a[i + k] - b[i + k]) ** 2 for k in range(3))
+    if count == 0 or total == 0:
+        return float("inf")
+    return 10.0 * math.log10(255.0 ** 2 / (total / count))
+
+
+def footprint(scene, surface, path):
+    """Saves the isosurface's footprint (white, unlit, on black)."""
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(surface.GetOutputPort())
+    mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().LightingOff()
+    actor.GetProperty().SetColor(1, 1, 1)
+    scene.renderer.AddActor(actor)
+    scene.reset()
+    scene.window.Render()
+    scene.save(path)
+    scene.renderer.RemoveActor(actor)
+
+
+def figure(path, shots, size):
+    """One labelled figure: (label, image) pairs at half size, 4 a row."""
+    columns, w, h = 4, size[0] // 2, size[1] // 2
+    rows = (len(shots) + columns - 1) // columns
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.SetMultiSamples(0)
+    window.SetSize(columns * w, rows * h)
+    keep = []
+    for k, (label, shot) in enumerate(shots):
+        reader = vtkPNGReader()
+        reader.SetFileName(shot)
+        reader.Update()
+        renderer = vtkRenderer()
+        c, r = k % columns, rows - 1 - k // columns
+        renderer.SetViewport(c / columns, r / rows, (c + 1) / columns, (r + 1) / rows)
+        image = vtkImageActor()
+        image.GetMapper().SetInputConnection(reader.GetOutputPort())
+        renderer.AddActor(image)
+        text = vtkTextActor()
+        text.SetInput(label)
+        text.GetTextProperty().SetFontSize(13)
+        text.GetTextProperty().SetColor(1, 1, 0.4)
+        text.SetPosition(6, h - 40)
+        renderer.AddActor2D(text)
+        renderer.ResetCamera()
+        renderer.GetActiveCamera().ParallelProjectionOn()
+        renderer.GetActiveCamera().SetParallelScale(0.5 * size[1])
+        window.AddRenderer(renderer)
+        keep.append((reader, renderer))
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    window.Finalize()
+
+
 def quality(image, reference):
     out = subprocess.run([COMPARE, image, reference, "--json"], capture_output=True, text=True)
     if out.returncode != 0:
@@ -193,11 +297,20 @@ def main():
             image = lambda technique: os.path.join(args.output, "images", tag + "-" + technique
                                                    + ".png")
 
-            # Ray casting: the reference (coupled eps 0.001), then the two
-            # ray casters the paper's "Ray Casting" stands for.
-            prop = make_property(tf_path)
+            mask = image("footprint")
+            footprint(scene, surface, mask)
+            shots = []
+
+            # Ray casting: the reference (coupled eps 0.001), then the ray
+            # casters the paper's "Ray Casting" stands for: ours and VTK's
+            # fixed-point mapper (both skip empty space and stop opaque
+            # rays), and ours without empty-space skipping, nearer the
+            # paper's (which also went on through opaque parts).
+            prop = make_property(tf_path, name)
             for technique, mapper in [("reference", avos.vtkAdaptiveVolumeMapper()),
                                       ("RC adaptive Riemann h 0.5", avos.vtkAdaptiveVolumeMapper()),
+                                      ("RC adaptive Riemann h 0.5 no skipping",
+                                       avos.vtkAdaptiveVolumeMapper()),
                                       ("RC VTK fixed point h 0.5",
                                        vtkFixedPointVolumeRayCastMapper())]:
                 if technique == "reference":
@@ -206,6 +319,7 @@ def main():
                 elif isinstance(mapper, avos.vtkAdaptiveVolumeMapper):
                     mapper.SetIntegrationMethodToRiemann()
                     mapper.SetSampleDistance(0.5)
+                    mapper.SetEmptySpaceSkipping("no skipping" not in technique)
                 else:
                     mapper.SetSampleDistance(1.0)  # world units: half a coarse voxel
                 mapper.SetAutoAdjustSampleDistances(0)  # a ray per pixel, whatever the timing
@@ -216,13 +330,16 @@ def main():
                 scene.renderer.AddVolume(actor)
                 scene.reset()
                 scene.window.Render()
-                shot = image(technique.split(" h ")[0].replace(" ", "-"))
+                shot = image(technique.replace(" h 0.5", "").replace(" ", "-"))
                 scene.save(shot)
+                if "no skipping" not in technique:
+                    shots.append((technique, shot))
                 if technique != "reference":
                     # The reference is rendered first: its image is already saved.
                     psnr, ssim = quality(shot, image("reference"))
                     record(name, size, technique, "rotation", scene.frames(args.frames, step),
-                           {"psnr": psnr, "ssim": ssim})
+                           {"psnr": psnr, "ssim": ssim,
+                            "footprint_psnr": masked_psnr(shot, image("reference"), mask)})
                     change, restore = tf_wiggle(prop)
                     record(name, size, technique, "rotation + TF",
                            scene.frames(args.frames, step, change))
@@ -234,7 +351,7 @@ def main():
 
             # VoS^M: cones cast once (the previsualization), colours assigned
             # per camera; a transfer-function change casts the cones again.
-            prop = make_property(tf_path)
+            prop = make_property(tf_path, name)
             vos = avos.vtkVolumeOnSurfaceFilter()
             vos.SetInputConnection(surface.GetOutputPort())
             vos.SetVolumeConnection(volume.GetOutputPort())
@@ -256,8 +373,10 @@ def main():
             scene.window.Render()
             scene.save(image("VoS-M"))
             psnr, ssim = quality(image("VoS-M"), reference)
+            shots.append(("VoS^M", image("VoS-M")))
             record(name, size, "VoS^M", "rotation", scene.frames(args.frames, step),
-                   {"previsualization_s": previs, "psnr": psnr, "ssim": ssim})
+                   {"previsualization_s": previs, "psnr": psnr, "ssim": ssim,
+                    "footprint_psnr": masked_psnr(image("VoS-M"), reference, mask)})
             change, restore = tf_wiggle(prop)
             record(name, size, "VoS^M", "rotation + TF",
                    scene.frames(min(args.frames, 3), step, change))
@@ -266,29 +385,42 @@ def main():
             scene.renderer.RemoveActor(actor)
 
             # VoS^M*: one ray per visible vertex each frame, on the isosurface
-            # decimated 0..90 % (one level of detail each).
-            prop = make_property(tf_path)
-            for reduction in REDUCTIONS if size == SIZES[0] else [0.0]:
+            # decimated 0..90 % (one level of detail each), then with the
+            # mapper's automatic level over all five (a still window: the
+            # screen-density rule decides).
+            prop = make_property(tf_path, name)
+            for reduction in (REDUCTIONS if size == SIZES[0] else [0.0]) + ["auto"]:
+                auto = reduction == "auto"
                 star = avos.vtkVolumeOnSurfaceMapper()
                 star.SetInputConnection(surface.GetOutputPort())
                 star.SetVolumeConnection(volume.GetOutputPort())
                 star.SetVolumeProperty(prop)
                 star.RemoveAllLevelOfDetailReductions()
-                star.AddLevelOfDetailReduction(reduction)
-                star.SetLevelOfDetail(0)
+                for r in REDUCTIONS if auto else [reduction]:
+                    star.AddLevelOfDetailReduction(r)
+                star.SetLevelOfDetail(-1 if auto else 0)
                 actor = vtkActor()
                 actor.SetMapper(star)
                 scene.renderer.AddActor(actor)
                 scene.reset()
                 scene.window.Render()  # decimates (not timed: done once per surface)
-                label = "VoS^M* %d %%" % round(100 * reduction)
-                shot = image("VoS-Mstar-%d" % round(100 * reduction))
+                label = "VoS^M* auto" if auto else "VoS^M* %d %%" % round(100 * reduction)
+                shot = image("VoS-Mstar-auto" if auto else "VoS-Mstar-%d" % round(100 * reduction))
                 scene.save(shot)
+                if auto or reduction in (0.0, 0.75):
+                    shots.append((label, shot))
                 psnr, ssim = quality(shot, reference)
                 extra = {"psnr": psnr, "ssim": ssim,
+                         "footprint_psnr": masked_psnr(shot, reference, mask),
                          "vertices": star.GetColoredSurface().GetNumberOfPoints(),
-                         "surface_bytes": star.GetSurfaceMemory(0)}
+                         "surface_bytes": star.GetSurfaceMemory(star.GetLastLevelOfDetail())}
+                if auto:
+                    extra["level"] = REDUCTIONS[star.GetLastLevelOfDetail()]
+                    extra["pixels_per_vertex"] = star.GetScreenPixelsPerVertex()
                 record(name, size, label, "rotation", scene.frames(args.frames, step), extra)
+                if auto:
+                    scene.renderer.RemoveActor(actor)
+                    continue
                 if reduction == 0.0:
                     change, restore = tf_wiggle(prop)
                     record(name, size, label, "rotation + TF",
@@ -301,13 +433,23 @@ def main():
                 scene.renderer.RemoveActor(actor)
 
             scene.window.Finalize()  # one X connection per window: give it back
+            labelled = []
+            for technique, shot in shots:
+                row = next((r for r in rows if r["dataset"] == name and r["size"] == "%dx%d" % size
+                            and r["technique"] == technique and r["situation"] == "rotation"),
+                           None)
+                labelled.append((technique + ("\n%.3f s, footprint PSNR %.1f dB"
+                                              % (row["median_s"], row["footprint_psnr"])
+                                              if row else "\n(the reference)"), shot))
+            figure(os.path.join(args.output, tag + "-techniques.png"), labelled, size)
 
         tables["III"].append((name, memory))
 
     minutes = (time.perf_counter() - t0) / 60
     with open(os.path.join(args.output, "results.csv"), "w", newline="") as f:
         fields = ["dataset", "size", "technique", "situation", "frames", "median_s", "mean_s", "fps",
-                  "previsualization_s", "psnr", "ssim", "vertices", "surface_bytes"]
+                  "previsualization_s", "psnr", "ssim", "vertices", "surface_bytes",
+                  "footprint_psnr", "level", "pixels_per_vertex"]
         writer = csv.DictWriter(f, fieldnames=fields)
         writer.writeheader()
         for row in rows:
@@ -321,8 +463,17 @@ def write_report(args, names, rows, tables, minutes):
     out = ["# Volume on Surface: the paper's evaluation on this machine", "",
            "Made by `scripts/bench-vos.py --datasets %s --frames %d` in %.1f minutes (2 cores, "
            "Mesa llvmpipe). Every volume at every 2nd voxel; VTK opacity semantics; camera from "
-           "the front, turning %d frames of 10 degrees about the view up axis; medians."
-           % (",".join(names), args.frames, minutes, args.frames), "",
+           "the front, turning %d frames of 10 degrees about the view up axis; medians; no "
+           "multisampling." % (",".join(names), args.frames, minutes, args.frames), "",
+           "Scenes (isovalue of the isosurface where the transfer function shows it):", ""]
+    for name in names:
+        volume_file, tf_file, iso, change = DATASETS[name]
+        out.append("- %s: `%s`, `%s`%s, isovalue %g." % (name, volume_file, tf_file,
+                                                     " (" + change + ")" if change else "", iso))
+    out += ["", "The paper's ray caster covered every pixel and went on through opaque parts; "
+           "ours and VTK's fixed-point mapper skip empty blocks and stop opaque rays. The row "
+           "`no skipping` is ours without empty-space skipping, nearer the paper's baseline "
+           "(early termination stays on).", "",
            "## Table II: isosurfaces", "", "| dataset | volume | vertices | triangles |",
            "|---|---|---:|---:|"]
     for name, dims, vertices, polygons in tables["II"]:
@@ -342,18 +493,22 @@ def write_report(args, names, rows, tables, minutes):
                % (p["vos_m"] + p["vos_m_star"] + (p["rc"],)))
     for situation, figure in (("rotation", "Figure 6"), ("rotation + TF", "Figure 7")):
         out += ["", "## %s: seconds per frame, %s" % (figure, situation), "",
-                "| dataset | size | VoS^M | VoS^M* | RC adaptive Riemann h 0.5 | RC VTK fixed point "
-                "h 0.5 | RC fixed point / VoS^M* |", "|---|---|---:|---:|---:|---:|---:|"]
+                "| dataset | size | VoS^M | VoS^M* | VoS^M* auto | RC adaptive Riemann h 0.5 | "
+                "same, no skipping | RC VTK fixed point h 0.5 | RC adaptive / VoS^M* | "
+                "RC adaptive / auto | no skipping / auto | RC fixed point / auto |",
+                "|---|---|" + "---:|" * 10]
         for name in names:
             for size in SIZES:
                 s = "%dx%d" % size
                 get = lambda t: next((r["median_s"] for r in rows if r["dataset"] == name and
                                       r["size"] == s and r["technique"] == t and
                                       r["situation"] == situation), float("nan"))
-                vm, star = get("VoS^M"), get("VoS^M* 0 %")
+                vm, star, auto = get("VoS^M"), get("VoS^M* 0 %"), get("VoS^M* auto")
                 ada, fixed = get("RC adaptive Riemann h 0.5"), get("RC VTK fixed point h 0.5")
-                out.append("| %s | %s | %.3f | %.3f | %.3f | %.3f | %.2f |"
-                           % (name, s, vm, star, ada, fixed, fixed / star))
+                full = get("RC adaptive Riemann h 0.5 no skipping")
+                out.append("| %s | %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f | %.2f | "
+                           "%.2f | %.2f |" % (name, s, vm, star, auto, ada, full, fixed,
+                                              ada / star, ada / auto, full / auto, fixed / auto))
     out += ["", "VoS^M's first frame (the previsualization, every cone's rays cast): "
             + ", ".join("%s %s %.2f s" % (r["dataset"], r["size"], r["previsualization_s"])
                         for r in rows if "previsualization_s" in r) + "."]
@@ -369,14 +524,26 @@ def write_report(args, names, rows, tables, minutes):
                               r["median_s"], r["psnr"], r["ssim"]))
     out.append("| Foot (paper), MB | 0/25/50/75/90 %% | | %s | | | |"
                % " / ".join(str(v) for v in PAPER_FOOT["decimated"]))
+    out += ["", "VoS^M* auto picked (covered pixels per cast vertex of the full surface in the "
+            "first view, level): " + ", ".join(
+                "%s %s %.2f px, %d %%" % (r["dataset"], r["size"], r["pixels_per_vertex"],
+                                          round(100 * r["level"]))
+                for r in rows if "level" in r) + "."]
     out += ["", "## Quality against the ray-cast reference (coupled Simpson, eps 0.001)", "",
-            "Mean over R, G, B of the first frame (8-bit, black background).", "",
-            "| dataset | size | technique | PSNR (dB) | SSIM |", "|---|---|---|---:|---:|"]
+            "Mean over R, G, B of the first frame (8-bit, black background); footprint: PSNR over "
+            "the pixels the isosurface covers only, where VoS has something to show.", "",
+            "| dataset | size | technique | PSNR (dB) | footprint PSNR (dB) | SSIM |",
+            "|---|---|---|---:|---:|---:|"]
     for r in rows:
         if "psnr" in r and r["situation"] == "rotation" and \
-                (r["technique"] in ("VoS^M", "VoS^M* 0 %") or r["technique"].startswith("RC")):
-            out.append("| %s | %s | %s | %.2f | %.4f |"
-                       % (r["dataset"], r["size"], r["technique"], r["psnr"], r["ssim"]))
+                (r["technique"] in ("VoS^M", "VoS^M* 0 %", "VoS^M* auto") or
+                 r["technique"].startswith("RC")):
+            out.append("| %s | %s | %s | %.2f | %.2f | %.4f |"
+                       % (r["dataset"], r["size"], r["technique"], r["psnr"],
+                          r["footprint_psnr"], r["ssim"]))
+    out += ["", "Figures (first frame, 800x600; time per frame and footprint PSNR in the "
+            "labels): " + ", ".join("[%s](%s-800x600-techniques.png)" % (n, n) for n in names)
+            + "."]
     with open(os.path.join(args.output, "report.md"), "w") as f:
         f.write("\n".join(out) + "\n")
 

@@ -16,6 +16,7 @@
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkTimerLog.h"
@@ -123,29 +124,43 @@ double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int w
   {
     return std::numeric_limits<double>::infinity();
   }
+  // Polygons straight from the cell array's storage (vtkCellArray::Visit).
+  vtkSMPThreadLocal<double> areas;
+  surface->GetPolys()->Visit(
+    [&](auto& state)
+    {
+      vtkSMPTools::For(0, state.GetNumberOfCells(),
+        [&](vtkIdType begin, vtkIdType end)
+        {
+          double& area = areas.Local();
+          for (vtkIdType cell = begin; cell < end; ++cell)
+          {
+            const auto ids = state.GetCellRange(cell);
+            const vtkIdType size = ids.size();
+            bool inside = false;
+            double twice = 0.0; // a fan's doubled signed area (counter-clockwise: front)
+            for (vtkIdType k = 0; k < size; ++k)
+            {
+              inside = inside || cast[static_cast<std::size_t>(ids[k])];
+              if (k >= 2)
+              {
+                const glm::dvec2 o = window[static_cast<std::size_t>(ids[0])];
+                const glm::dvec2 e1 = window[static_cast<std::size_t>(ids[k - 1])] - o;
+                const glm::dvec2 e2 = window[static_cast<std::size_t>(ids[k])] - o;
+                twice += e1.x * e2.y - e1.y * e2.x;
+              }
+            }
+            if (inside && twice > 0.0)
+            {
+              area += 0.5 * twice;
+            }
+          }
+        });
+    });
   double area = 0.0;
-  vtkCellArray* polys = surface->GetPolys();
-  vtkIdType size;
-  const vtkIdType* ids;
-  for (polys->InitTraversal(); polys->GetNextCell(size, ids);)
+  for (double a : areas)
   {
-    bool inside = false;
-    double twice = 0.0; // a fan's doubled signed area (counter-clockwise: front)
-    for (vtkIdType k = 0; k < size; ++k)
-    {
-      inside = inside || cast[static_cast<std::size_t>(ids[k])];
-      if (k >= 2)
-      {
-        const glm::dvec2 a = window[static_cast<std::size_t>(ids[0])];
-        const glm::dvec2 e1 = window[static_cast<std::size_t>(ids[k - 1])] - a;
-        const glm::dvec2 e2 = window[static_cast<std::size_t>(ids[k])] - a;
-        twice += e1.x * e2.y - e1.y * e2.x;
-      }
-    }
-    if (inside && twice > 0.0)
-    {
-      area += 0.5 * twice;
-    }
+    area += a;
   }
   return area / static_cast<double>(count);
 }
