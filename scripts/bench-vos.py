@@ -360,6 +360,9 @@ def main():
             mapper = vtkPolyDataMapper()
             mapper.SetInputConnection(vos.GetOutputPort())
             mapper.SetColorModeToDirectScalars()
+            # Opaque, as VoS^M* draws: the colours' RGB (see the filter).
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("VoSDisplayColors")
             actor = vtkActor()
             actor.SetMapper(mapper)
             scene.reset()

@@ -355,6 +355,10 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   colors->SetName("VoSColors");
   colors->SetNumberOfComponents(4);
   colors->SetNumberOfTuples(n);
+  vtkNew<vtkUnsignedCharArray> display;
+  display->SetName("VoSDisplayColors");
+  display->SetNumberOfComponents(3);
+  display->SetNumberOfTuples(n);
   vtkNew<vtkIntArray> chosen;
   chosen->SetName("VoSRay");
   chosen->SetNumberOfTuples(n);
@@ -384,12 +388,14 @@ int vtkVolumeOnSurfaceFilter::RequestData(
           ? avos::ToBytes(glm::dvec4(in.Colors[first + best]))
           : std::array<unsigned char, 4>{ { 0, 0, 0, 0 } };
         colors->SetTypedTuple(v, rgba.data());
+        display->SetTypedTuple(v, rgba.data());
         chosen->SetValue(v, best);
       }
     });
 
   output->ShallowCopy(withNormals);
   output->GetPointData()->SetScalars(colors);
+  output->GetPointData()->AddArray(display);
   output->GetPointData()->AddArray(chosen);
 
   // The technique's memory (the paper's Table III).

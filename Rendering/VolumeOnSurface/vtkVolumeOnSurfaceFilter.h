@@ -17,10 +17,14 @@
  *   observation line (vertex to eye; the direction of projection's opposite
  *   for a parallel camera); vertices without such a ray get transparent black.
  *
- * The output is the input surface with two point arrays: "VoSColors"
+ * The output is the input surface with three point arrays: "VoSColors"
  * (unsigned char RGBA: RGB = the integrated colour over black, A = opacity;
- * the active scalars, so any polydata mapper shows them) and "VoSRay" (the
- * index of the chosen ray, -1 for none).
+ * the active scalars), "VoSDisplayColors" (its RGB alone: the surface as the
+ * paper draws it, opaque, showing the volume in front of it as a ray cast
+ * over black would; colour a polydata mapper by it with
+ * SetScalarModeToUsePointFieldData and SelectColorArray, since RGBA scalars
+ * are blended, multiplying the colour by its opacity once more) and "VoSRay"
+ * (the index of the chosen ray, -1 for none).
  *
  * Interaction, as in the paper: the filter's modification time includes the
  * camera's, so a camera change re-executes it, but only the assignment runs

@@ -8,6 +8,8 @@
 #include "vtkInformation.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLState.h"
 #include "vtkOpenMeshDecimation.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
@@ -47,7 +49,7 @@ struct ViewKey
   std::array<double, 3> Eye{};
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
-  std::array<double, 5> Integration{}; // method, step, tolerance, extinction, skipping
+  std::array<double, 6> Integration{}; // method, step, tolerance, extinction, skipping, visibility
   std::vector<double> Planes;          // each clipping plane's origin and normal
 
   bool operator==(const ViewKey& o) const
@@ -164,6 +166,99 @@ double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int w
   }
   return area / static_cast<double>(count);
 }
+
+// The depth buffer under the renderer after `draw` was drawn into it, depth
+// only (the colour buffer untouched), over the renderer's tiled area
+// (x0, y0, width, height). False when the window cannot give it.
+template <typename Draw>
+bool DepthWith(vtkRenderer* ren, Draw&& draw, std::vector<float>& depth, int area[4])
+{
+  auto* window = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+  if (!window)
+  {
+    return false;
+  }
+  {
+    vtkOpenGLState* state = window->GetState();
+    vtkOpenGLState::ScopedglColorMask saved(state);
+    state->vtkglColorMask(false, false, false, false);
+    draw();
+  }
+  ren->GetTiledSizeAndOrigin(&area[2], &area[3], &area[0], &area[1]);
+  depth.resize(static_cast<std::size_t>(area[2]) * static_cast<std::size_t>(area[3]));
+  return area[2] > 0 && area[3] > 0 &&
+    window->GetZbufferData(
+      area[0], area[1], area[0] + area[2] - 1, area[1] + area[3] - 1, depth.data()) != 0;
+}
+
+// The vertices of `surface` that need a ray after a depth pass: those `view`
+// casts that are not hidden, and every vertex sharing a polygon with one, so
+// that a polygon with a visible corner is coloured whole. Hidden: at each
+// pixel of the 3 x 3 around the vertex the depth buffer holds something
+// more than `margin` (world units along the view direction) in front of it.
+// The margin and the neighbourhood keep a vertex's own polygons, which
+// reach it between pixel centres, from hiding it. `P` is the camera's
+// projection (eye to clip coordinates, row-major): it turns window depths
+// into distances.
+std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView& view,
+  const double* P, const std::vector<float>& depth, const int area[4], double margin)
+{
+  const vtkIdType n = surface->GetNumberOfPoints();
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  // Distance in front of the eye of an NDC depth (-1 near, 1 far).
+  auto distance = [P](double z) { return -(P[11] - z * P[15]) / (z * P[14] - P[10]); };
+  const int w = area[2], h = area[3];
+  std::vector<unsigned char> seen(static_cast<std::size_t>(n), 0);
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType v = begin; v < end; ++v)
+      {
+        double p[3], nv[3];
+        surface->GetPoint(v, p);
+        normals->GetTuple(v, nv);
+        const glm::dvec3 point(p[0], p[1], p[2]);
+        glm::dvec3 line;
+        if (!view.Casts(point, glm::dvec3(nv[0], nv[1], nv[2]), line))
+        {
+          continue;
+        }
+        const glm::dvec4 c = view.Clip(point);
+        const double own = distance(c.z / c.w) - margin;
+        const int px = static_cast<int>(std::floor((0.5 * c.x / c.w + 0.5) * w));
+        const int py = static_cast<int>(std::floor((0.5 * c.y / c.w + 0.5) * h));
+        bool hidden = true;
+        for (int y = std::max(py - 1, 0); hidden && y <= std::min(py + 1, h - 1); ++y)
+        {
+          for (int x = std::max(px - 1, 0); hidden && x <= std::min(px + 1, w - 1); ++x)
+          {
+            const double d = 2.0 * depth[static_cast<std::size_t>(y) * w + x] - 1.0;
+            hidden = distance(d) < own;
+          }
+        }
+        seen[static_cast<std::size_t>(v)] = hidden ? 0 : 1;
+      }
+    });
+  std::vector<unsigned char> needed(seen);
+  surface->GetPolys()->Visit(
+    [&](auto& state)
+    {
+      for (vtkIdType cell = 0; cell < state.GetNumberOfCells(); ++cell)
+      {
+        const auto ids = state.GetCellRange(cell);
+        bool any = false;
+        for (const auto id : ids)
+        {
+          any = any || seen[static_cast<std::size_t>(id)];
+        }
+        for (const auto id : ids)
+        {
+          needed[static_cast<std::size_t>(id)] |= any ? 1 : 0;
+        }
+      }
+    });
+  return needed;
+}
 } // namespace
 
 class vtkVolumeOnSurfaceMapper::vtkInternals
@@ -182,6 +277,12 @@ public:
   std::vector<unsigned char> Known;
   int DrawnLevel = -1;
   double SecondsPerRay = 0.0;
+  // The depth pass: its last cost (seconds, the draw and the read back) and
+  // the share of the candidate vertices it found hidden; new views since
+  // it last ran.
+  double PassSeconds = 0.0;
+  double HiddenShare = 1.0;
+  int ViewsWithoutPass = 16;         // the first view measures the pass
   double FullPixelsPerVertex = -1.0; // the full surface's for the view `Key`; < 0: unknown
   avos::EmptySpaceCache EmptySpace;
   avos::EngineVolume EngineScalars;
@@ -190,6 +291,7 @@ public:
   // place: a new view uploads only the colours, not the geometry again.
   vtkNew<vtkPolyData> Drawn;
   vtkNew<vtkUnsignedCharArray> Colors;
+  vtkNew<vtkUnsignedCharArray> Display; // their RGB: what is drawn, opaque
   int GeometryLevel = -1;
   vtkSmartPointer<vtkPolyDataMapper> Delegate;
 };
@@ -203,8 +305,12 @@ vtkVolumeOnSurfaceMapper::vtkVolumeOnSurfaceMapper()
   this->SetNumberOfInputPorts(2);
   // The OpenGL implementation, through VTK's object factory.
   this->Internals->Delegate = vtkSmartPointer<vtkPolyDataMapper>::New();
+  // Drawn opaque, by the colours' RGB (premultiplied: the volume in front
+  // over black, as a ray cast shows it); RGBA would be blended, multiplying
+  // the colour by its opacity once more.
   this->Internals->Delegate->SetColorModeToDirectScalars();
-  this->Internals->Delegate->SetScalarModeToUsePointData();
+  this->Internals->Delegate->SetScalarModeToUsePointFieldData();
+  this->Internals->Delegate->SelectColorArray("VoSDisplayColors");
 }
 
 vtkVolumeOnSurfaceMapper::~vtkVolumeOnSurfaceMapper()
@@ -258,7 +364,7 @@ vtkIdType vtkVolumeOnSurfaceMapper::GetSurfaceMemory(int level)
   return static_cast<vtkIdType>(s->GetPoints()->GetData()->GetActualMemorySize() +
            (normals ? normals->GetActualMemorySize() : 0) + s->GetPolys()->GetActualMemorySize()) *
     1024 +
-    4 * s->GetNumberOfPoints();
+    7 * s->GetNumberOfPoints();
 }
 
 double vtkVolumeOnSurfaceMapper::GetScreenPixelsPerVertex()
@@ -387,7 +493,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
-    double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping) };
+    double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping),
+    double(this->VisibilityTest) };
   if (this->ClippingPlanes)
   {
     vtkCollectionSimpleIterator it;
@@ -469,14 +576,67 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       : nullptr;
     vtkPolyData* s = level.Surface;
     vtkDataArray* normals = s->GetPointData()->GetNormals();
-    std::atomic<vtkIdType> rays(0), visible(0), reused(0);
+    if (in.GeometryLevel != levelIndex)
+    {
+      in.Drawn->ShallowCopy(s);
+      in.Colors->SetName("VoSColors");
+      in.Colors->SetNumberOfComponents(4);
+      in.Colors->SetNumberOfTuples(s->GetNumberOfPoints());
+      in.Colors->Fill(0);
+      in.Drawn->GetPointData()->SetScalars(in.Colors);
+      in.Display->SetName("VoSDisplayColors");
+      in.Display->SetNumberOfComponents(3);
+      in.Display->SetNumberOfTuples(s->GetNumberOfPoints());
+      in.Display->Fill(0);
+      in.Drawn->GetPointData()->AddArray(in.Display);
+      in.Delegate->SetInputData(in.Drawn);
+      in.GeometryLevel = levelIndex;
+    }
+    in.Delegate->SetClippingPlanes(this->ClippingPlanes);
+
+    // The depth pass: DEPTH always; AUTO when the rays it saved last time
+    // (at today's cost per ray) outweigh what it cost, and every 16th new
+    // view to measure again.
+    const double saving =
+      in.HiddenShare * static_cast<double>(this->NumberOfVisibleVertices) * in.SecondsPerRay;
+    const bool pass = this->VisibilityTest == DEPTH_VISIBILITY ||
+      (this->VisibilityTest == AUTOMATIC_VISIBILITY &&
+        (in.PassSeconds < saving || in.ViewsWithoutPass >= 16));
+    std::vector<unsigned char> needed;
+    this->LastDepthPass = 0;
+    if (pass)
+    {
+      vtkNew<vtkTimerLog> passTimer;
+      passTimer->StartTimer();
+      std::vector<float> depth;
+      int area[4];
+      double spacing[3];
+      volume->GetSpacing(spacing);
+      if (DepthWith(
+            ren, [&]() { in.Delegate->Render(ren, act); }, depth, area))
+      {
+        vtkMatrix4x4* eyeToClip =
+          camera->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+        needed = NeededVertices(s, view, eyeToClip->GetData(), depth, area,
+          std::max({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
+        this->LastDepthPass = 1;
+      }
+      passTimer->StopTimer();
+      in.PassSeconds = passTimer->GetElapsedTime();
+      in.ViewsWithoutPass = 0;
+    }
+    else
+    {
+      ++in.ViewsWithoutPass;
+    }
+    std::atomic<vtkIdType> rays(0), visible(0), reused(0), hidden(0);
     avos::RayFailures failures;
     auto colour = [&](const auto& caster)
     {
       vtkSMPTools::For(0, s->GetNumberOfPoints(),
         [&](vtkIdType begin, vtkIdType end)
         {
-          vtkIdType localRays = 0, localVisible = 0, localReused = 0;
+          vtkIdType localRays = 0, localVisible = 0, localReused = 0, localHidden = 0;
           for (vtkIdType v = begin; v < end; ++v)
           {
             const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
@@ -490,6 +650,11 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
               continue;
             }
             ++localVisible;
+            if (!needed.empty() && !needed[static_cast<std::size_t>(v)])
+            {
+              ++localHidden;
+              continue;
+            }
             if (in.Known[full])
             {
               ++localReused;
@@ -509,6 +674,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
           rays += localRays;
           visible += localVisible;
           reused += localReused;
+          hidden += localHidden;
         });
     };
     if (!setup.Dispatch(colour))
@@ -526,24 +692,21 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     this->NumberOfRaysCast = rays;
     this->NumberOfVisibleVertices = visible;
     this->NumberOfReusedColors = reused;
-
-    if (in.GeometryLevel != levelIndex)
+    this->NumberOfHiddenVertices = hidden;
+    if (this->LastDepthPass && visible > 0)
     {
-      in.Drawn->ShallowCopy(s);
-      in.Colors->SetName("VoSColors");
-      in.Colors->SetNumberOfComponents(4);
-      in.Colors->SetNumberOfTuples(s->GetNumberOfPoints());
-      in.Drawn->GetPointData()->SetScalars(in.Colors);
-      in.Delegate->SetInputData(in.Drawn);
-      in.GeometryLevel = levelIndex;
+      in.HiddenShare = static_cast<double>(hidden) / static_cast<double>(visible);
     }
     unsigned char* rgba = in.Colors->GetPointer(0);
+    unsigned char* rgb = in.Display->GetPointer(0);
     for (vtkIdType v = 0; v < s->GetNumberOfPoints(); ++v)
     {
       const auto& c = in.FullColors[static_cast<std::size_t>(level.FullIds[v])];
       std::copy(c.begin(), c.end(), rgba + 4 * v);
+      std::copy(c.begin(), c.begin() + 3, rgb + 3 * v);
     }
     in.Colors->Modified();
+    in.Display->Modified();
     in.DrawnLevel = levelIndex;
   }
   this->LastLevelOfDetail = levelIndex;
@@ -551,7 +714,9 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   this->ColoringTime = timer->GetElapsedTime();
   if (this->NumberOfRaysCast > 0)
   {
-    in.SecondsPerRay = this->ColoringTime / static_cast<double>(this->NumberOfRaysCast);
+    in.SecondsPerRay =
+      std::max(0.0, this->ColoringTime - (this->LastDepthPass ? in.PassSeconds : 0.0)) /
+      static_cast<double>(this->NumberOfRaysCast);
   }
 
   in.Delegate->SetClippingPlanes(this->ClippingPlanes);
@@ -575,6 +740,10 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   }
   os << "\n" << indent << "LevelOfDetail: " << this->LevelOfDetail << "\n";
   os << indent << "PixelsPerVertex: " << this->PixelsPerVertex << "\n";
+  const char* tests[3] = { "Off", "Depth", "Automatic" };
+  os << indent << "VisibilityTest: " << tests[this->VisibilityTest] << "\n";
+  os << indent << "LastDepthPass: " << this->LastDepthPass << "\n";
+  os << indent << "NumberOfHiddenVertices: " << this->NumberOfHiddenVertices << "\n";
   os << indent << "LastLevelOfDetail: " << this->LastLevelOfDetail << "\n";
   os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";
   os << indent << "NumberOfVisibleVertices: " << this->NumberOfVisibleVertices << "\n";

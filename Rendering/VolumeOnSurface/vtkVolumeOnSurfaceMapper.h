@@ -7,10 +7,11 @@
  * of sight, from the vertex towards the eye through the volume (input port 1),
  * integrated front to back with the numerical core (Riemann sum, the paper's
  * model, or adaptive Simpson); the vertex takes the ray's colour and the lit
- * surface is drawn by an OpenGL polydata mapper. Visible means front-facing
- * (with respect to the point normals, which the surface must have) and inside
- * the view frustum; other vertices cost nothing and stay transparent black.
- * Vertices are processed with vtkSMPTools.
+ * surface is drawn, opaque, by an OpenGL polydata mapper with the colours'
+ * RGB (premultiplied: the volume in front over black, as a ray cast shows it). Visible means
+ * front-facing (with respect to the point normals, which the surface must have) and inside the view
+ * frustum; other vertices cost nothing and stay transparent black. Vertices are processed with
+ * vtkSMPTools.
  *
  * Levels of detail: the surface is decimated with vtkOpenMeshDecimation to
  * each of LevelOfDetailReductions (default 0, 0.5, 0.9; built once per
@@ -22,6 +23,17 @@
  * rays); a level can also be forced. Decimated vertices are a subset of the
  * full surface's (their original ids), so colours already computed for the
  * same view are reused across levels instead of cast again.
+ *
+ * Hidden vertices: with VisibilityTest DEPTH the drawn level is first drawn
+ * into the depth buffer only (over the props drawn before it) and read
+ * back; a vertex gets a ray only when it is not hidden there, or shares a
+ * polygon with one that is not (so every polygon with a visible corner is
+ * coloured whole; what stays uncoloured is hidden, but for polygons crossed
+ * by an occluding edge with all their corners hidden). That costs one
+ * depth-only draw: AUTOMATIC (the default) draws it only when the rays it
+ * saved last time, at the current cost per ray, outweigh what it cost (and
+ * every 16th new view, to measure again), so a software OpenGL that draws
+ * slowly skips it and a GPU keeps it.
  *
  * Nothing is cast when neither the camera, the viewport, the surface, the
  * volume, the transfer function nor a parameter changed.
@@ -132,6 +144,31 @@ public:
   vtkGetMacro(PixelsPerVertex, double);
   ///@}
 
+  enum VisibilityTests
+  {
+    NO_VISIBILITY = 0,    // every front-facing vertex in the frustum gets a ray
+    DEPTH_VISIBILITY,     // a depth-only pass first: hidden vertices get none
+    AUTOMATIC_VISIBILITY, // the depth pass when it saved more than it cost
+  };
+
+  ///@{
+  /**
+   * Which vertices get a ray (see the class description). Default
+   * AUTOMATIC_VISIBILITY.
+   */
+  vtkSetClampMacro(VisibilityTest, int, NO_VISIBILITY, AUTOMATIC_VISIBILITY);
+  vtkGetMacro(VisibilityTest, int);
+  ///@}
+
+  ///@{
+  /**
+   * The last render that cast: whether it drew the depth pass, and the
+   * front-facing vertices in the frustum it found hidden (no ray).
+   */
+  vtkGetMacro(LastDepthPass, vtkTypeBool);
+  vtkGetMacro(NumberOfHiddenVertices, vtkIdType);
+  ///@}
+
   /**
    * The full surface's covered pixels per cast vertex that the last
    * automatic choice of level saw (-1 when the level was forced).
@@ -153,7 +190,8 @@ public:
   /**
    * Memory of the technique's structures, in bytes (the paper's Tables III
    * and IV): the volume's scalars, and the surface of one level of detail
-   * (points, normals, triangles and one RGBA colour per vertex). 0 before the
+   * (points, normals, triangles and per vertex its RGBA colour and the RGB
+   * drawn). 0 before the
    * first render built the levels, or for a level that does not exist.
    */
   vtkIdType GetVolumeMemory();
@@ -162,7 +200,8 @@ public:
 
   /**
    * The surface drawn by the last render (the chosen level of detail) with
-   * its "VoSColors" (unsigned char RGBA) and, for decimated levels,
+   * its "VoSColors" (unsigned char RGBA, the active scalars), their RGB
+   * "VoSDisplayColors" (what is drawn) and, for decimated levels,
    * "vtkOriginalPointIds".
    */
   vtkPolyData* GetColoredSurface();
@@ -185,6 +224,9 @@ protected:
   int LevelOfDetail = -1;
   int LastLevelOfDetail = -1;
   double PixelsPerVertex = 2.0;
+  int VisibilityTest = AUTOMATIC_VISIBILITY;
+  vtkTypeBool LastDepthPass = 0;
+  vtkIdType NumberOfHiddenVertices = 0;
   vtkIdType NumberOfRaysCast = 0;
   vtkIdType NumberOfVisibleVertices = 0;
   vtkIdType NumberOfReusedColors = 0;
