@@ -1,6 +1,7 @@
 """vtkVolumeOnSurfaceFilter in a wrapped pipeline: source -> vtkFlyingEdges3D ->
 vtkOpenMeshDecimation -> VoS^M. Every vertex gets a colour array entry, a
-camera change only reassigns, and the memory report adds up."""
+camera change only reassigns, and the memory report adds up. The mapper's
+settings of this round are wrapped (screen density, visibility test)."""
 
 import avos
 from vtkmodules.test import Testing
@@ -45,12 +46,28 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         self.assertGreater(n, 100)
         self.assertEqual(vos.GetNumberOfRaysCast(), 12 * n)
         self.assertEqual(out.GetPointData().GetScalars().GetName(), "VoSColors")
+        # The drawn RGB ("VoSDisplayColors") is the colours' RGB.
+        display = out.GetPointData().GetArray("VoSDisplayColors")
+        colours = out.GetPointData().GetScalars()
+        self.assertEqual(display.GetNumberOfComponents(), 3)
+        self.assertTrue(all(display.GetComponent(v, k) == colours.GetComponent(v, k)
+                            for v in range(0, n, 7) for k in range(3)))
         self.assertEqual(vos.GetConesMemory(), 12 * n * 28)
         visible = sum(1 for v in range(n) if out.GetPointData().GetArray("VoSRay").GetValue(v) >= 0)
         self.assertGreater(visible, n // 3)
         camera.Azimuth(30)
         vos.Update()
         self.assertEqual(vos.GetNumberOfRaysCast(), 0)
+
+    def test_mapper_settings(self):
+        mapper = avos.vtkVolumeOnSurfaceMapper()
+        self.assertEqual(mapper.GetPixelsPerVertex(), 2.0)
+        mapper.SetPixelsPerVertex(-1.0)  # clamped: 0 turns the density rule off
+        self.assertEqual(mapper.GetPixelsPerVertex(), 0.0)
+        self.assertEqual(mapper.GetVisibilityTest(), mapper.AUTOMATIC_VISIBILITY)
+        mapper.SetVisibilityTest(mapper.DEPTH_VISIBILITY)
+        self.assertEqual(mapper.GetVisibilityTest(), mapper.DEPTH_VISIBILITY)
+        self.assertEqual(mapper.GetScreenPixelsPerVertex(), -1.0)  # nothing drawn yet
 
 
 if __name__ == "__main__":
