@@ -86,6 +86,18 @@ struct VertexView
     return glm::dot(n, line) > 0.0 && c.w > 0.0 && std::abs(c.x) <= c.w && std::abs(c.y) <= c.w &&
       std::abs(c.z) <= c.w;
   }
+
+  // The same for vertex v of `surface`, whose point normals are `normals`;
+  // `point` its position.
+  bool Casts(vtkPolyData* surface, vtkDataArray* normals, vtkIdType v, glm::dvec3& point,
+    glm::dvec3& line) const
+  {
+    double p[3], n[3];
+    surface->GetPoint(v, p);
+    normals->GetTuple(v, n);
+    point = glm::dvec3(p[0], p[1], p[2]);
+    return this->Casts(point, glm::dvec3(n[0], n[1], n[2]), line);
+  }
 };
 
 // Covered pixels per cast vertex of `surface` on a width x height viewport:
@@ -106,13 +118,9 @@ double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int w
       vtkIdType local = 0;
       for (vtkIdType v = begin; v < end; ++v)
       {
-        double p[3], nv[3];
-        surface->GetPoint(v, p);
-        normals->GetTuple(v, nv);
-        const glm::dvec3 point(p[0], p[1], p[2]);
-        glm::dvec3 line;
+        glm::dvec3 point, line;
         const std::size_t i = static_cast<std::size_t>(v);
-        cast[i] = view.Casts(point, glm::dvec3(nv[0], nv[1], nv[2]), line) ? 1 : 0;
+        cast[i] = view.Casts(surface, normals, v, point, line) ? 1 : 0;
         local += cast[i];
         const glm::dvec4 c = view.Clip(point);
         // Behind the eye: no window position, and its polygons are skipped.
@@ -214,12 +222,8 @@ std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView
     {
       for (vtkIdType v = begin; v < end; ++v)
       {
-        double p[3], nv[3];
-        surface->GetPoint(v, p);
-        normals->GetTuple(v, nv);
-        const glm::dvec3 point(p[0], p[1], p[2]);
-        glm::dvec3 line;
-        if (!view.Casts(point, glm::dvec3(nv[0], nv[1], nv[2]), line))
+        glm::dvec3 point, line;
+        if (!view.Casts(surface, normals, v, point, line))
         {
           continue;
         }
@@ -640,12 +644,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
           for (vtkIdType v = begin; v < end; ++v)
           {
             const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
-            double p[3], n[3];
-            s->GetPoint(v, p);
-            normals->GetTuple(v, n);
-            const glm::dvec3 point(p[0], p[1], p[2]);
-            glm::dvec3 line;
-            if (!view.Casts(point, glm::dvec3(n[0], n[1], n[2]), line))
+            glm::dvec3 point, line;
+            if (!view.Casts(s, normals, v, point, line))
             {
               continue;
             }
