@@ -8,9 +8,10 @@
  * integrated front to back with the numerical core (Riemann sum, the paper's
  * model, or adaptive Simpson); the vertex takes the ray's colour and the lit
  * surface is drawn, opaque, by an OpenGL polydata mapper with the colours'
- * RGB (premultiplied: the volume in front over black, as a ray cast shows it). Visible means
- * front-facing (with respect to the point normals, which the surface must have) and inside the view
- * frustum; other vertices cost nothing and stay transparent black. Vertices are processed with
+ * RGB (premultiplied: the volume in front over black, as a ray cast shows
+ * it). Visible means front-facing (with respect to the point normals, which
+ * the surface must have) and inside the view frustum; other vertices cost
+ * nothing and stay transparent black. Vertices are processed with
  * vtkSMPTools.
  *
  * Levels of detail: the surface is decimated with vtkOpenMeshDecimation to
@@ -191,8 +192,8 @@ public:
    * Memory of the technique's structures, in bytes (the paper's Tables III
    * and IV): the volume's scalars, and the surface of one level of detail
    * (points, normals, triangles and per vertex its RGBA colour and the RGB
-   * drawn). 0 before the
-   * first render built the levels, or for a level that does not exist.
+   * drawn). 0 before the first render built the levels, or for a level that
+   * does not exist.
    */
   vtkIdType GetVolumeMemory();
   vtkIdType GetSurfaceMemory(int level);
