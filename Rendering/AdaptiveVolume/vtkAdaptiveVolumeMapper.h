@@ -24,7 +24,7 @@
  * the function's value is the extinction tau per voxel unit (the paper's
  * model, the .tf1d files' meaning).
  *
- * Work skipped: blocks of 8^3 cells that the transfer function maps to
+ * Work skipped: blocks of 4^3 cells that the transfer function maps to
  * tau = 0 (their value ranges are rebuilt when the data changes, their
  * visibility when the property does), the rest of a ray once what it can
  * still add is below a fifth of the tolerance, rays that miss the volume's
@@ -241,7 +241,7 @@ public:
   ///@}
 
   /**
-   * Number of 8^3-cell blocks and how many of them the current transfer
+   * Number of 4^3-cell blocks and how many of them the current transfer
    * function leaves visible (after a render).
    */
   vtkIdType GetNumberOfBlocks();

@@ -149,7 +149,7 @@ public:
 
   ///@{
   /**
-   * Integrate each ray only through the 8^3-cell blocks the transfer function
+   * Integrate each ray only through the 4^3-cell blocks the transfer function
    * leaves visible (default on), as vtkAdaptiveVolumeMapper does: a Riemann
    * sum is unchanged to the bit, the adaptive rule keeps its bound.
    */

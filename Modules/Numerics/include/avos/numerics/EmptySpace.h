@@ -38,7 +38,12 @@ template <typename Real>
 class EmptySpaceMap
 {
 public:
-  static constexpr int BlockSize = 8; // cells per block edge
+  // Cells per block edge. 4 (as VTK's fixed-point mapper's regions) against
+  // 8: on Bonsai 800x600 the Riemann sum takes 38 % fewer samples and 10 %
+  // less time, the coupled rule 9 % less, the piecewise method 2-3 % less
+  // (one run, side by side), for 17 bytes of ranges and visibility per 64
+  // cells (27 % of an 8-bit volume's size).
+  static constexpr int BlockSize = 4;
 
   // Dimensions of the volume in grid points, at least 2 on every axis.
   void SetDimensions(const int dimensions[3])
