@@ -150,13 +150,18 @@ class Scene:
         return times
 
     def save(self, path):
-        grab = vtkWindowToImageFilter()
-        grab.SetInput(self.window)
-        grab.ReadFrontBufferOff()
-        writer = vtkPNGWriter()
-        writer.SetFileName(path)
-        writer.SetInputConnection(grab.GetOutputPort())
-        writer.Write()
+        save_png(self.window, path)
+
+
+def save_png(window, path):
+    """Writes what `window` last drew (its back buffer) to `path`."""
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
 
 
 def tf_wiggle(prop):
@@ -225,7 +230,6 @@ def figure(path, shots, size):
     window.SetOffScreenRendering(1)
     window.SetMultiSamples(0)
     window.SetSize(columns * w, rows * h)
-    keep = []
     for k, (label, shot) in enumerate(shots):
         reader = vtkPNGReader()
         reader.SetFileName(shot)
@@ -246,15 +250,8 @@ def figure(path, shots, size):
         renderer.GetActiveCamera().ParallelProjectionOn()
         renderer.GetActiveCamera().SetParallelScale(0.5 * size[1])
         window.AddRenderer(renderer)
-        keep.append((reader, renderer))
     window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.ReadFrontBufferOff()
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
+    save_png(window, path)
     window.Finalize()
 
 
