@@ -580,6 +580,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       : nullptr;
     vtkPolyData* s = level.Surface;
     vtkDataArray* normals = s->GetPointData()->GetNormals();
+    // A new level's colour arrays start black: the depth pass below draws
+    // them before they are written.
     if (in.GeometryLevel != levelIndex)
     {
       in.Drawn->ShallowCopy(s);

@@ -215,19 +215,21 @@ public:
   RangeClass ClassifyRange(Real lo, Real hi) const
   {
     RangeClass c;
-    std::size_t l, h;
+    std::size_t l, h, last;
     if (this->UnitIndex(lo, l) && this->UnitIndex(hi, h))
     {
       c.First = this->UnitUpper[l];
       c.Crossings = this->UnitBelow[h] > c.First;
-      const std::size_t last = c.Crossings ? this->UnitUpper[h] : c.First;
-      c.Visible = this->VisibleBefore[last + 1] > this->VisibleBefore[c.First];
-      return c;
+      last = c.Crossings ? this->UnitUpper[h] : c.First;
     }
-    const std::vector<Real>& knots = this->GetKnots();
-    c.First = this->Locate(lo);
-    c.Crossings = c.First < knots.size() && knots[c.First] < hi;
-    const std::size_t last = c.Crossings ? this->Locate(hi) : c.First;
+    else
+    {
+      const std::vector<Real>& knots = this->GetKnots();
+      c.First = this->Locate(lo);
+      c.Crossings = c.First < knots.size() && knots[c.First] < hi;
+      last = c.Crossings ? this->Locate(hi) : c.First;
+    }
+    // The pieces of lo to hi: visible when any of them is.
     c.Visible = this->VisibleBefore[last + 1] > this->VisibleBefore[c.First];
     return c;
   }
