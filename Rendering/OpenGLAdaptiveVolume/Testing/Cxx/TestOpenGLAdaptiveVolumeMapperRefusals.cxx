@@ -1,0 +1,140 @@
+// Settings and inputs the GPU mapper does not honour are refused with an
+// error naming them, and nothing is drawn; the same scene with valid
+// settings draws the volume (so the checks can fail).
+#include "vtkOpenGLAdaptiveVolumeMapper.h"
+
+#include "avosTestHelpers.h"
+#include "vtkAnalyticVolumeSource.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkImageCast.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPlane.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <functional>
+
+namespace
+{
+// Pixels of the window with any colour.
+int DrawnPixels(vtkRenderWindow* window)
+{
+  vtkNew<vtkUnsignedCharArray> pixels;
+  const int* size = window->GetSize();
+  window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 0, pixels);
+  int drawn = 0;
+  for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i)
+  {
+    drawn +=
+      pixels->GetValue(3 * i) + pixels->GetValue(3 * i + 1) + pixels->GetValue(3 * i + 2) > 0;
+  }
+  return drawn;
+}
+}
+
+int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
+{
+  avostest::Checklist check;
+  vtkNew<vtkAnalyticVolumeSource> source;
+  source->SetFunctionToSphereDistance();
+  source->SetDimensions(24, 24, 24);
+  source->SetOutputScalarTypeToFloat();
+  vtkNew<vtkColorTransferFunction> colour;
+  colour->AddRGBPoint(0.0, 1.0, 0.8, 0.2);
+  colour->AddRGBPoint(2.0, 0.2, 0.4, 1.0);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(0.0, 2.0);
+  opacity->AddPoint(2.0, 0.0);
+  vtkNew<vtkVolumeProperty> property;
+  property->SetColor(colour);
+  property->SetScalarOpacity(opacity);
+  property->SetInterpolationTypeToLinear();
+
+  vtkNew<vtkOpenGLAdaptiveVolumeMapper> mapper;
+  mapper->SetInputConnection(source->GetOutputPort());
+  mapper->SetOpacityModelToExtinction();
+  vtkNew<vtkVolume> volume;
+  volume->SetMapper(mapper);
+  volume->SetProperty(property);
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddVolume(volume);
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);
+  window->SetSize(64, 64);
+  window->AddRenderer(renderer);
+  renderer->ResetCamera();
+
+  window->Render();
+  const int valid = DrawnPixels(window);
+  check(valid > 500, "a valid scene draws the volume (" + std::to_string(valid) + " pixels)");
+
+  avostest::ExpectedErrors errors(mapper);
+  auto refused = [&](const std::string& what, const std::string& message,
+                   const std::function<void()>& set, const std::function<void()>& reset)
+  {
+    set();
+    window->Render();
+    check(errors.Check(what, message), what + " is refused");
+    check(DrawnPixels(window) == 0, what + ": nothing is drawn");
+    reset();
+    window->Render();
+    check(DrawnPixels(window) == valid, what + ": the valid scene draws again");
+  };
+  refused(
+    "a zero tolerance", "tolerance", [&] { mapper->SetTolerance(0.0); },
+    [&] { mapper->SetTolerance(0.01); });
+  refused(
+    "a tolerance above 1", "tolerance", [&] { mapper->SetTolerance(2.0); },
+    [&] { mapper->SetTolerance(0.01); });
+  refused(
+    "a minimum step below 0.001", "step", [&] { mapper->SetMinimumStep(1e-4); },
+    [&] { mapper->SetMinimumStep(0.1); });
+  refused(
+    "a Riemann step above 1000", "step", [&] { mapper->SetRiemannStep(2000.0); },
+    [&] { mapper->SetRiemannStep(0.5); });
+  refused(
+    "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
+    [&] { mapper->SetMinimumStep(0.1); });
+  refused(
+    "the maximum intensity blend", "composite", [&] { mapper->SetBlendModeToMaximumIntensity(); },
+    [&] { mapper->SetBlendModeToComposite(); });
+  refused(
+    "cropping", "cropping", [&] { mapper->CroppingOn(); }, [&] { mapper->CroppingOff(); });
+  vtkNew<vtkPlane> plane;
+  refused(
+    "a clipping plane", "clipping", [&] { mapper->AddClippingPlane(plane); },
+    [&] { mapper->RemoveAllClippingPlanes(); });
+  refused(
+    "shading", "Shading", [&] { property->ShadeOn(); }, [&] { property->ShadeOff(); });
+  refused(
+    "nearest interpolation", "trilinear", [&] { property->SetInterpolationTypeToNearest(); },
+    [&] { property->SetInterpolationTypeToLinear(); });
+  refused(
+    "an image quantity without a float depth image", "float depth image",
+    [&] { mapper->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::ALPHA); },
+    [&] { mapper->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::DEPTH); });
+  refused(
+    "depth peeling of volumes", "depth peeling",
+    [&]
+    {
+      renderer->UseDepthPeelingOn();
+      renderer->UseDepthPeelingForVolumesOn();
+    },
+    [&] { renderer->UseDepthPeelingOff(); });
+  vtkNew<vtkImageCast> toShort;
+  toShort->SetInputConnection(source->GetOutputPort());
+  toShort->SetOutputScalarTypeToShort();
+  refused(
+    "short scalars", "vtkImageCast", [&] { mapper->SetInputConnection(toShort->GetOutputPort()); },
+    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+  vtkNew<vtkPiecewiseFunction> empty;
+  refused(
+    "an empty opacity function", "opacity", [&] { property->SetScalarOpacity(empty); },
+    [&] { property->SetScalarOpacity(opacity); });
+  return check.Result();
+}

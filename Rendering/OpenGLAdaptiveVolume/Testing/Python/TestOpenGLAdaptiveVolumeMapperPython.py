@@ -1,0 +1,103 @@
+"""vtkOpenGLAdaptiveVolumeMapper from Python: the GPU's float opacity image
+(RenderToImage's depth image, ImageQuantity ALPHA) agrees with the CPU
+mapper's on the same frame within the tolerance, for the coupled and
+decoupled strategies and the Riemann sum; a bad tolerance is refused and
+draws nothing."""
+
+import avos
+from vtkmodules.test import Testing
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
+                                         vtkVolume, vtkVolumeProperty)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
+import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
+
+SIZE = 32
+
+
+class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
+    def setUp(self):
+        source = avos.vtkAnalyticVolumeSource()
+        source.SetFunctionToMarschnerLobb()
+        source.SetDimensions(33, 33, 33)
+        source.SetOutputScalarTypeToFloat()
+        color = vtkColorTransferFunction()
+        color.AddRGBPoint(0.0, 0.1, 0.3, 1.0)
+        color.AddRGBPoint(1.0, 1.0, 0.8, 0.2)
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(0.0, 0.0)
+        opacity.AddPoint(0.5, 0.0)
+        opacity.AddPoint(1.0, 0.4)
+        self.prop = vtkVolumeProperty()
+        self.prop.SetColor(color)
+        self.prop.SetScalarOpacity(opacity)
+        self.prop.SetInterpolationTypeToLinear()
+        self.source = source
+
+    def render(self, mapper):
+        volume = vtkVolume()
+        volume.SetMapper(mapper)
+        volume.SetProperty(self.prop)
+        renderer = vtkRenderer()
+        renderer.AddVolume(volume)
+        window = vtkRenderWindow()
+        window.SetOffScreenRendering(1)
+        window.SetMultiSamples(0)
+        window.SetSize(SIZE, SIZE)
+        window.AddRenderer(renderer)
+        renderer.ResetCamera()
+        renderer.GetActiveCamera().Azimuth(30.0)
+        renderer.GetActiveCamera().Elevation(20.0)
+        renderer.ResetCameraClippingRange()
+        window.Render()
+        return window
+
+    def testAgreesWithTheCPUMapper(self):
+        for method, eps in (("Riemann", 0.01), ("AdaptiveCoupled", 0.001),
+                            ("AdaptiveDecoupled", 0.001)):
+            gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
+            gpu.SetInputConnection(self.source.GetOutputPort())
+            gpu.SetOpacityModelToExtinction()
+            getattr(gpu, "SetIntegrationMethodTo" + method)()
+            gpu.SetTolerance(eps)
+            gpu.SetRenderToImage(1)
+            gpu.SetDepthImageScalarTypeToFloat()
+            gpu.SetImageQuantity(avos.vtkOpenGLAdaptiveVolumeMapper.ALPHA)
+            self.window = self.render(gpu)  # the image lives in its context
+            alpha = vtkImageData()
+            gpu.GetDepthImage(alpha)
+
+            cpu = avos.vtkAdaptiveVolumeMapper()
+            cpu.SetInputConnection(self.source.GetOutputPort())
+            cpu.SetOpacityModelToExtinction()
+            getattr(cpu, "SetIntegrationMethodTo" + method)()
+            cpu.SetTolerance(eps)
+            cpu.EmptySpaceSkippingOff()
+            self.render(cpu)
+            rgba = cpu.GetRenderedImage().GetPointData().GetScalars()
+
+            gpuAlpha = alpha.GetPointData().GetScalars()
+            self.assertEqual(gpuAlpha.GetNumberOfTuples(), SIZE * SIZE)
+            worst, covered = 0.0, 0
+            for i in range(SIZE * SIZE):
+                a = gpuAlpha.GetValue(i)
+                if a == 1.0:  # no fragment: the image's clear value
+                    a = 0.0
+                covered += rgba.GetComponent(i, 3) > 0.01
+                worst = max(worst, abs(a - rgba.GetComponent(i, 3)))
+            self.assertGreater(covered, SIZE * SIZE // 8, method)
+            self.assertLessEqual(worst, eps, method)
+
+    def testRefusesABadTolerance(self):
+        gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
+        gpu.SetInputConnection(self.source.GetOutputPort())
+        gpu.SetTolerance(-1.0)
+        errors = []
+        gpu.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: errors.append(event))
+        self.render(gpu)
+        self.assertEqual(len(errors), 1)
+
+
+if __name__ == "__main__":
+    Testing.main([(TestOpenGLAdaptiveVolumeMapperPython, "test")])

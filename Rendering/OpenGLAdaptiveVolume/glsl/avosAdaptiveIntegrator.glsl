@@ -1,0 +1,597 @@
+// The volume rendering integral along one ray, in GLSL and float: the
+// numerical core's Riemann sum and the paper's Algorithm 3 (coupled and
+// decoupled adaptive Simpson, Algorithm 2's step control), statement for
+// statement as in avos/numerics/RayIntegrators.h and TransferFunction.h, so
+// that the CPU core in double is this code's oracle.
+//
+// Inserted by vtkOpenGLAdaptiveVolumeMapper after VTK's declarations (it
+// reads in_volume[0], in_depthSampler, in_windowLowerLeftCorner and
+// in_inverseWindowSize); its uniforms (avos_*) are the shader property's
+// custom uniforms. Every loop below is bounded: the adaptive loop by the
+// core's MaximumAttempts (a ray that reaches it is reported as failed), the
+// Riemann loop by ceil(D / h), the searches by log2 of the knot count.
+
+// ---------------------------------------------------------------- the field
+// Grid point value: the texel as uploaded by VTK (normalised for integer
+// types) mapped back to the data's scalar, exactly for 8- and 16-bit data.
+float avos_texel(ivec3 p)
+{
+  return texelFetch(in_volume[0], p, 0).r * avos_texelScale + avos_texelBias;
+}
+
+// Trilinear interpolation at grid coordinates g, clamped onto the grid as the
+// core's TrilinearVolume does (a ray clipped to the box strays by rounding).
+float avos_field(vec3 g)
+{
+  vec3 last = avos_dimensions - vec3(1.0);
+  vec3 p = clamp(g, vec3(0.0), last);
+  vec3 cell = min(floor(p), last - vec3(1.0));
+  vec3 f = p - cell;
+  ivec3 c = ivec3(cell);
+  float v000 = avos_texel(c);
+  float v100 = avos_texel(c + ivec3(1, 0, 0));
+  float v010 = avos_texel(c + ivec3(0, 1, 0));
+  float v110 = avos_texel(c + ivec3(1, 1, 0));
+  float v001 = avos_texel(c + ivec3(0, 0, 1));
+  float v101 = avos_texel(c + ivec3(1, 0, 1));
+  float v011 = avos_texel(c + ivec3(0, 1, 1));
+  float v111 = avos_texel(c + ivec3(1, 1, 1));
+  float v00 = v000 + f.x * (v100 - v000);
+  float v10 = v010 + f.x * (v110 - v010);
+  float v01 = v001 + f.x * (v101 - v001);
+  float v11 = v011 + f.x * (v111 - v011);
+  float v0 = v00 + f.y * (v10 - v00);
+  float v1 = v01 + f.y * (v11 - v01);
+  return v0 + f.z * (v1 - v0);
+}
+
+// ------------------------------------------------------ the transfer function
+// Pieces between consecutive knots of either function (TransferFunction's
+// Piece): avos_pieceA = (start, length, opacity, opacity slope),
+// avos_pieceC = (colour, jumps among the knots before this one),
+// avos_pieceS = (colour slope, 0); avos_below = (colour, opacity) below the
+// first knot.
+
+// The last piece starting at or below s; -1 below the first knot or for NaN.
+int avos_locate(float s)
+{
+  if (!(s >= avos_pieceA[0].x))
+  {
+    return -1;
+  }
+  int lo = 0;
+  int hi = avos_pieceCount - 1;
+  while (lo < hi)
+  {
+    int mid = (lo + hi + 1) / 2;
+    if (avos_pieceA[mid].x <= s)
+    {
+      lo = mid;
+    }
+    else
+    {
+      hi = mid - 1;
+    }
+  }
+  return lo;
+}
+
+// -ln(1 - a) with the rounding of 1 - a corrected (log1p's classic trick):
+// a few ulp of relative error for small opacities too, where log(1 - a) in
+// float would lose all but a few digits.
+float avos_minusLog1m(float a)
+{
+  float u = 1.0 - a;
+  if (u == 1.0)
+  {
+    return a;
+  }
+  return -log(u) * (a / (1.0 - u));
+}
+
+// The core's OpaqueExtinction: an alpha of 1 leaves 1e-17 per unit distance.
+const float avos_opaqueExtinction = 40.0;
+
+// 1 - e^{-x}, x >= 0, without the cancellation of 1 - exp(-x) near 0 (a
+// Taylor polynomial below 1/32: its remainder x^5 / 120 < 3e-10 x there).
+float avos_oneMinusExp(float x)
+{
+  if (x < 0.03125)
+  {
+    return x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))));
+  }
+  return 1.0 - exp(-x);
+}
+
+float avos_toExtinction(float value)
+{
+  if (avos_alphaModel == 0)
+  {
+    return value;
+  }
+  if (value >= 1.0)
+  {
+    return avos_opaqueExtinction / avos_unitDistance;
+  }
+  return min(avos_minusLog1m(value), avos_opaqueExtinction) / avos_unitDistance;
+}
+
+void avos_classify(float s, out float tau, out vec3 colour)
+{
+  if (isnan(s))
+  {
+    tau = 0.0;
+    colour = vec3(0.0);
+    return;
+  }
+  int i = avos_locate(s);
+  if (i < 0)
+  {
+    tau = avos_toExtinction(avos_below.w);
+    colour = avos_below.rgb;
+    return;
+  }
+  vec4 a = avos_pieceA[i];
+  float d = clamp(s - a.x, 0.0, a.y);
+  tau = avos_toExtinction(a.z + a.w * d);
+  colour = avos_pieceC[i].rgb + avos_pieceS[i].rgb * d;
+}
+
+float avos_jumpsBefore(int k)
+{
+  return k < avos_pieceCount ? avos_pieceC[k].w : avos_jumpsTotal;
+}
+
+// A jump of C or tau at a scalar in (lo, hi).
+bool avos_hasJumpIn(float lo, float hi)
+{
+  int first = avos_locate(lo) + 1;
+  int end = avos_locate(hi) + 1;
+  if (end > 0 && avos_pieceA[end - 1].x == hi)
+  {
+    --end;
+  }
+  return end > first && avos_jumpsBefore(end) > avos_jumpsBefore(first);
+}
+
+// A kink or a jump at a scalar in (lo, hi).
+bool avos_hasKnotIn(float lo, float hi)
+{
+  int next = avos_locate(lo) + 1;
+  return next < avos_pieceCount && avos_pieceA[next].x < hi;
+}
+
+// ----------------------------------------------------------------- the ray
+// Grid position at t voxel units from the ray's entry into the box.
+vec3 avos_rayOrigin;
+vec3 avos_rayDirection;
+int avos_samples; // transfer-function evaluations of this ray
+
+struct avos_Sample
+{
+  float Scalar;
+  float Tau;
+  vec3 Colour;
+};
+
+avos_Sample avos_sample(float t)
+{
+  ++avos_samples;
+  avos_Sample s;
+  s.Scalar = avos_field(avos_rayOrigin + t * avos_rayDirection);
+  avos_classify(s.Scalar, s.Tau, s.Colour);
+  return s;
+}
+
+// The core's IntegrateRiemann (exponential form), samples at min(i h, D).
+vec4 avos_riemann(float D, float h, float bound)
+{
+  vec3 colour = vec3(0.0);
+  float T = 1.0;
+  int n = int(ceil(D / h));
+  for (int i = 1; i <= n; ++i)
+  {
+    float t1 = i == n ? D : min(float(i) * h, D);
+    float dt = t1 - float(i - 1) * h;
+    avos_Sample s = avos_sample(t1);
+    float a = avos_oneMinusExp(s.Tau * dt);
+    colour += T * a * s.Colour;
+    T *= 1.0 - a;
+    if (T <= bound)
+    {
+      break;
+    }
+  }
+  return vec4(colour, 1.0 - T);
+}
+
+// ------------------------------------------------ the paper's Algorithm 3
+// Five equidistant samples over [U, U + K] (the core's Bracket).
+struct avos_Bracket
+{
+  float U;
+  float K;
+  float Scale; // EstimateScale's cached value, 0 when unknown
+  avos_Sample S[5];
+};
+
+void avos_fill(inout avos_Bracket b, float u, float k)
+{
+  b.U = u;
+  b.K = k;
+  b.Scale = 0.0;
+  for (int i = 1; i < 5; ++i)
+  {
+    b.S[i] = avos_sample(i == 4 ? u + k : u + 0.25 * float(i) * k);
+  }
+}
+
+void avos_halve(inout avos_Bracket b)
+{
+  b.K *= 0.5;
+  b.Scale = 0.0;
+  b.S[4] = b.S[2];
+  b.S[2] = b.S[1];
+  b.S[1] = avos_sample(b.U + 0.25 * b.K);
+  b.S[3] = avos_sample(b.U + 0.75 * b.K);
+}
+
+// Simpson's estimate assumes a smooth integrand: 15 across a jump of the
+// transfer function, 5 across a kink, 1 otherwise (Bracket::EstimateScale).
+float avos_estimateScale(inout avos_Bracket b)
+{
+  if (b.Scale > 0.0)
+  {
+    return b.Scale;
+  }
+  float lo = b.S[0].Scalar;
+  float hi = lo;
+  float spread = 0.0;
+  for (int i = 1; i < 5; ++i)
+  {
+    lo = min(lo, b.S[i].Scalar);
+    hi = max(hi, b.S[i].Scalar);
+    spread = max(spread, abs(b.S[i].Scalar - b.S[i - 1].Scalar));
+  }
+  lo = max(lo - spread, avos_fieldRange.x);
+  hi = min(hi + spread, avos_fieldRange.y);
+  b.Scale = 1.0;
+  if (lo == lo && hi == hi && lo < hi)
+  {
+    b.Scale = avos_hasJumpIn(lo, hi) ? 15.0 : (avos_hasKnotIn(lo, hi) ? 5.0 : 1.0);
+  }
+  return b.Scale;
+}
+
+// Piecewise-constant quarters integrated exactly: the step taken at h_min
+// although its estimate fails (Bracket::Stable).
+void avos_stable(avos_Bracket b, inout float theta, inout vec3 colour)
+{
+  float dt = 0.25 * b.K;
+  for (int i = 1; i < 5; ++i)
+  {
+    float tau = 0.5 * (b.S[i - 1].Tau + b.S[i].Tau);
+    vec3 c = 0.5 * (b.S[i - 1].Colour + b.S[i].Colour);
+    colour += exp(-theta) * avos_oneMinusExp(tau * dt) * c;
+    theta += tau * dt;
+  }
+}
+
+bool avos_allTransparent(avos_Bracket b)
+{
+  for (int i = 0; i < 5; ++i)
+  {
+    if (b.S[i].Tau != 0.0)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Simpson on the whole step (x) and on its halves (y) of the optical depth.
+vec2 avos_inner(avos_Bracket b)
+{
+  float k = b.K;
+  return vec2(k / 6.0 * (b.S[0].Tau + 4.0 * b.S[2].Tau + b.S[4].Tau),
+    k / 12.0 *
+      (b.S[0].Tau + 4.0 * b.S[1].Tau + 2.0 * b.S[2].Tau + 4.0 * b.S[3].Tau + b.S[4].Tau));
+}
+
+float avos_corrected(vec2 pair)
+{
+  return pair.y + (pair.y - pair.x) / 15.0;
+}
+
+// The same for the colour, with theta inside the step by regular Simpson
+// from theta0 (Bracket::Outer).
+void avos_outer(avos_Bracket b, float theta0, out vec3 whole, out vec3 halves)
+{
+  float k = b.K;
+  float t[5];
+  for (int i = 0; i < 5; ++i)
+  {
+    t[i] = b.S[i].Tau;
+  }
+  float theta[5];
+  theta[0] = theta0;
+  theta[1] = theta0 + k / 48.0 * (5.0 * t[0] + 8.0 * t[1] - t[2]);
+  theta[2] = theta0 + k / 12.0 * (t[0] + 4.0 * t[1] + t[2]);
+  theta[3] = theta[2] + k / 48.0 * (5.0 * t[2] + 8.0 * t[3] - t[4]);
+  theta[4] = theta[2] + k / 12.0 * (t[2] + 4.0 * t[3] + t[4]);
+  vec3 g[5];
+  for (int i = 0; i < 5; ++i)
+  {
+    g[i] = t[i] > 0.0 ? b.S[i].Colour * (t[i] * exp(-theta[i])) : vec3(0.0);
+  }
+  whole = k / 6.0 * (g[0] + 4.0 * g[2] + g[4]);
+  halves = k / 12.0 * (g[0] + 4.0 * g[1] + 2.0 * g[2] + 4.0 * g[3] + g[4]);
+}
+
+// Algorithm 2's step control (StepControl): double after two successes,
+// halve on failure, within [Min, Max].
+struct avos_StepControl
+{
+  float H;
+  float Min;
+  float Max;
+  bool LastSucceeded;
+};
+
+void avos_succeeded(inout avos_StepControl c)
+{
+  if (c.LastSucceeded)
+  {
+    c.H = min(2.0 * c.H, c.Max);
+  }
+  c.LastSucceeded = true;
+}
+
+void avos_failed(inout avos_StepControl c)
+{
+  c.H = max(0.5 * c.H, c.Min);
+  c.LastSucceeded = false;
+}
+
+int avos_attempts; // accepted and rejected steps of this ray
+
+// The paper's Algorithm 3 over [0, D] (IntegrateAdaptive with one segment):
+// the inner integral finds a step over which the optical depth is within its
+// share of eps; the outer one covers that step for RGB, from the inner step
+// (coupled) or its own (decoupled). Returns RGBA, alpha < 0 when the ray
+// needed more than MaximumAttempts(D) attempts (impossible by the argument
+// in RayIntegrators.h; kept as a guard that reports instead of hanging).
+vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
+{
+  float hmin = max(avos_steps.y, 8.0 * 1.1920929e-7 * D);
+  float hmax = max(avos_steps.z, hmin);
+  float tolerance = 0.4 * avos_tolerance / D; // per unit length, inner and outer
+  float maximumAttempts =
+    3.0 * (ceil(D / hmin) + 1.0) * (ceil(log2(avos_steps.z / hmin)) + 2.0);
+  float h0 = min(max(min(avos_steps.x, D), hmin), hmax);
+  avos_StepControl inner = avos_StepControl(h0, hmin, hmax, true);
+  avos_StepControl outer = avos_StepControl(h0, hmin, hmax, true);
+
+  avos_Bracket bin;
+  avos_Bracket bout;
+  vec3 colour = vec3(0.0);
+  float theta = 0.0;
+  float t = 0.0;
+  bin.S[0] = avos_sample(t);
+  while (t < D)
+  {
+    // Inner integral: the first acceptable step from t.
+    float T = exp(-theta);
+    float remaining = D - t;
+    avos_fill(bin, t, min(inner.H, remaining));
+    vec2 innerPair;
+    bool innerForced = false;
+    for (;;)
+    {
+      innerPair = avos_inner(bin);
+      float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
+      if (error <= tolerance * bin.K)
+      {
+        break;
+      }
+      if (bin.K <= inner.Min)
+      {
+        innerForced = true;
+        break;
+      }
+      ++avos_attempts;
+      avos_failed(inner);
+      avos_halve(bin);
+    }
+    float h = bin.K;
+    float tEnd = bin.K == remaining ? D : t + h;
+    ++avos_attempts;
+    float innerValue = max(avos_corrected(innerPair), 0.0);
+    if (innerForced)
+    {
+      float thetaEnd = theta;
+      avos_stable(bin, thetaEnd, colour);
+      innerValue = thetaEnd - theta;
+    }
+    else if (!avos_allTransparent(bin))
+    {
+      // Outer integral over [t, tEnd].
+      if (coupled)
+      {
+        outer.H = h;
+        outer.LastSucceeded = true;
+      }
+      float u = t;
+      float thetaU = theta;
+      bout.S[0] = bin.S[0];
+      while (u < tEnd)
+      {
+        float k = min(outer.H, tEnd - u);
+        if (u == t && k == h)
+        {
+          bout = bin; // the inner step's samples, exactly
+        }
+        else
+        {
+          avos_fill(bout, u, k);
+        }
+        vec3 whole;
+        vec3 halves;
+        bool outerForced = false;
+        for (;;)
+        {
+          avos_outer(bout, thetaU, whole, halves);
+          vec3 e = abs(halves - whole) / 15.0;
+          float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
+          if (error <= tolerance * bout.K)
+          {
+            break;
+          }
+          if (bout.K <= outer.Min)
+          {
+            outerForced = true;
+            break;
+          }
+          ++avos_attempts;
+          avos_failed(outer);
+          avos_halve(bout);
+        }
+        if (outerForced)
+        {
+          avos_stable(bout, thetaU, colour);
+        }
+        else
+        {
+          colour += halves + (halves - whole) / 15.0;
+          thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
+        }
+        float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
+        ++avos_attempts;
+        avos_succeeded(outer);
+        u = uEnd;
+        bout.S[0] = bout.S[4];
+        if (float(avos_attempts) > maximumAttempts)
+        {
+          return vec4(0.0, 0.0, 0.0, -1.0);
+        }
+      }
+    }
+
+    theta += innerValue;
+    t = tEnd;
+    bin.S[0] = bin.S[4];
+    avos_succeeded(inner);
+    if (float(avos_attempts) > maximumAttempts)
+    {
+      return vec4(0.0, 0.0, 0.0, -1.0);
+    }
+    if (avos_earlyTermination != 0 && t < D && theta >= terminationDepth)
+    {
+      break;
+    }
+  }
+  // Each channel lies in [0, 1 - T]: clamping only brings it closer.
+  float alpha = avos_oneMinusExp(theta);
+  return vec4(clamp(colour, vec3(0.0), vec3(alpha)), alpha);
+}
+
+// ----------------------------------------------------------- the pixel's ray
+float avos_rayEntry;  // voxel units from the near plane (or -1: missed)
+float avos_rayLength; // voxel units inside the box, up to the depth buffer
+
+// The ray through this fragment's pixel centre from the near plane to the
+// depth buffer (as vtkAdaptiveVolumeMapper casts it), clipped to the grid's
+// box [0, n - 1]. False when it misses the box. Its points are affine in
+// NDC x, y on any plane of constant depth (a camera's homogeneous w depends
+// on the depth alone), so the mapper gives, in double, the coefficients of
+// the point on the plane through the volume's centre and of the near-to-far
+// vector: positions in float then carry errors of the volume's size, not of
+// the camera's distance. The point at depth d lies at the fraction
+// w_f d / (w_n (1 - d) + w_f d) of the way from the near to the far plane.
+bool avos_setUpRay()
+{
+  vec2 window = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
+  vec2 ndc = 2.0 * window - vec2(1.0);
+  float depth = texture2D(in_depthSampler, window).x;
+  vec3 centre = avos_centre[0] + ndc.x * avos_centre[1] + ndc.y * avos_centre[2];
+  vec3 span = avos_span[0] + ndc.x * avos_span[1] + ndc.y * avos_span[2];
+  float total = length(avos_gridToVoxel * span);
+  float fraction = avos_planeW.y * depth / (avos_planeW.x * (1.0 - depth) + avos_planeW.y * depth);
+  avos_rayEntry = -1.0;
+  avos_rayLength = 0.0;
+  if (!(total > 0.0))
+  {
+    return false;
+  }
+  vec3 direction = span / total;
+  // u: voxel units from the centre plane, which lies tc from the near plane.
+  float tc = avos_centreFraction * total;
+  float u0 = -tc;
+  float u1 = fraction * total - tc;
+  vec3 last = avos_dimensions - vec3(1.0);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (direction[a] == 0.0)
+    {
+      if (centre[a] < 0.0 || centre[a] > last[a])
+      {
+        return false;
+      }
+      continue;
+    }
+    float ua = (0.0 - centre[a]) / direction[a];
+    float ub = (last[a] - centre[a]) / direction[a];
+    u0 = max(u0, min(ua, ub));
+    u1 = min(u1, max(ua, ub));
+  }
+  if (!(u1 > u0))
+  {
+    return false;
+  }
+  avos_rayOrigin = centre + u0 * direction;
+  avos_rayDirection = direction;
+  avos_rayEntry = tc + u0;
+  avos_rayLength = u1 - u0;
+  return true;
+}
+
+vec4 avos_result;
+
+// Casts this fragment's ray with the chosen method into avos_result
+// (premultiplied RGBA over black).
+void avos_castRay()
+{
+  avos_samples = 0;
+  avos_attempts = 0;
+  avos_result = vec4(0.0);
+  if (!avos_setUpRay())
+  {
+    return;
+  }
+  // What the rest of a ray can add to any channel is at most T max(1, max C).
+  float budget = 0.2 * avos_tolerance / max(1.0, avos_maximumColour);
+  if (avos_method == 0)
+  {
+    avos_result = avos_riemann(avos_rayLength, avos_steps.w, avos_earlyTermination != 0 ? budget : 0.0);
+  }
+  else
+  {
+    avos_result = avos_adaptive(avos_rayLength, avos_method == 1, -log(budget));
+  }
+}
+
+// The quantity the validation image (RenderToImage's float depth image)
+// receives: 1..4 RGBA, 5 the ray's entry, 6 its length, 7 its samples.
+void avos_writeQuantity()
+{
+  if (avos_quantity == 0)
+  {
+    return;
+  }
+  float v = avos_quantity <= 4 ? avos_result[avos_quantity - 1]
+                               : (avos_quantity == 5 ? avos_rayEntry
+                                                     : (avos_quantity == 6 ? avos_rayLength
+                                                                           : float(avos_samples)));
+  // Alpha 1: the blend (one, one minus source alpha) keeps the value alone.
+  gl_FragData[1] = vec4(v, v, v, 1.0);
+}

@@ -1,0 +1,388 @@
+#include "vtkOpenGLAdaptiveVolumeMapper.h"
+
+#include "avosAdaptiveIntegratorGLSL.h"
+#include "avosImageGrid.h"
+#include "avosTransferFunctionFromProperty.h"
+#include "vtkAdaptiveVolumeMapper.h"
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
+#include "vtkOpenGLShaderProperty.h"
+#include "vtkOpenGLState.h"
+#include "vtkPlaneCollection.h"
+#include "vtkRenderer.h"
+#include "vtkUniforms.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtk_glew.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkOpenGLAdaptiveVolumeMapper);
+
+namespace
+{
+// Uniform vectors the shader needs besides the transfer function's pieces
+// (VTK's own uniforms and ours), kept free of the GPU's fragment storage.
+constexpr int ReservedUniformVectors = 256;
+
+// texel * scale + bias = the data's scalar, for the formats VTK 9.1 uploads:
+// normalised 8- and 16-bit unsigned integers, float (double converted).
+bool TexelToScalar(int scalarType, float& scale, float& bias)
+{
+  bias = 0.0f;
+  switch (scalarType)
+  {
+    case VTK_UNSIGNED_CHAR:
+      scale = 255.0f;
+      return true;
+    case VTK_UNSIGNED_SHORT:
+      scale = 65535.0f;
+      return true;
+    case VTK_FLOAT:
+    case VTK_DOUBLE:
+      scale = 1.0f;
+      return true;
+    default:
+      return false;
+  }
+}
+
+} // namespace
+
+class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
+{
+public:
+  avos::numerics::TransferFunction<double> TF;
+  int PieceCount = -1; // the size the piece arrays were declared with
+};
+
+//------------------------------------------------------------------------------
+vtkOpenGLAdaptiveVolumeMapper::vtkOpenGLAdaptiveVolumeMapper()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkOpenGLAdaptiveVolumeMapper::~vtkOpenGLAdaptiveVolumeMapper() = default;
+
+//------------------------------------------------------------------------------
+const char* vtkOpenGLAdaptiveVolumeMapper::GetIntegrationMethodAsString()
+{
+  switch (this->IntegrationMethod)
+  {
+    case RIEMANN:
+      return "Riemann";
+    case ADAPTIVE_COUPLED:
+      return "AdaptiveCoupled";
+    default:
+      return "AdaptiveDecoupled";
+  }
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
+  vtkRenderer* ren, vtkVolumeProperty* property)
+{
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  if (!input)
+  {
+    return "the input is not a vtkImageData";
+  }
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  if (!scalars || scalars->GetNumberOfTuples() == 0)
+  {
+    return "the input has no scalars";
+  }
+  if (cellFlag)
+  {
+    return "cell scalars are not supported: the integrals are those of the trilinear "
+           "interpolant of point scalars";
+  }
+  if (scalars->GetNumberOfComponents() != 1)
+  {
+    return "only one-component scalars are supported";
+  }
+  float scale, bias;
+  if (!TexelToScalar(scalars->GetDataType(), scale, bias))
+  {
+    return std::string("scalars of type ") + scalars->GetDataTypeAsString() +
+      " are not supported (unsigned char, unsigned short, float, double): convert them with "
+      "vtkImageCast";
+  }
+  const int* dims = input->GetDimensions();
+  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
+  {
+    return "the image must have at least two points on every axis";
+  }
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return "only the composite blend mode is supported";
+  }
+  if (this->Cropping)
+  {
+    return "cropping is not supported";
+  }
+  if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0)
+  {
+    return "clipping planes are not supported";
+  }
+  if (this->MaskInput)
+  {
+    return "masks are not supported";
+  }
+  if (ren && ren->GetUseDepthPeeling() && ren->GetUseDepthPeelingForVolumes())
+  {
+    return "dual depth peeling of volumes is not supported: turn the renderer's "
+           "UseDepthPeelingForVolumes off";
+  }
+  if (this->ImageQuantity != DEPTH &&
+    (!this->RenderToImage || this->DepthImageScalarType != VTK_FLOAT))
+  {
+    return "an ImageQuantity other than DEPTH needs RenderToImage with a float depth image";
+  }
+  if (!(this->Tolerance > 0.0 && this->Tolerance <= 1.0))
+  {
+    return "the tolerance must be in (0, 1]";
+  }
+  const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
+  const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
+  for (double step : { this->InitialStep, this->MinimumStep, this->MaximumStep, this->RiemannStep })
+  {
+    if (!(step >= smallest && step <= largest))
+    {
+      std::ostringstream message;
+      message << "every step must lie in [" << smallest << ", " << largest << "] voxel units; got "
+              << step;
+      return message.str();
+    }
+  }
+  if (this->MinimumStep > this->MaximumStep)
+  {
+    return "the minimum step exceeds the maximum step";
+  }
+  return avos::UnsupportedPropertySettings(property);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkVolumeProperty* property = vol->GetProperty();
+  std::string error = this->CheckRenderable(ren, property);
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  double voxel = 0.0;
+  vtkNew<vtkMatrix4x4> gridToWorld;
+  if (error.empty())
+  {
+    voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
+    if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
+    {
+      error = "the image's spacing or the volume's matrix is degenerate";
+    }
+  }
+  vtkInternals& internals = *this->Internals;
+  vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+    ren->GetTiledAspectRatio(), -1, 1);
+  if (error.empty())
+  {
+    error = avos::TransferFunctionFromProperty(
+      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
+  }
+  const auto& pieces = internals.TF.GetPieces();
+  if (error.empty())
+  {
+    GLint vectors = 0;
+    glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
+    const int capacity = std::max(0, (vectors - ReservedUniformVectors) / 3);
+    if (static_cast<int>(pieces.size()) > capacity)
+    {
+      std::ostringstream message;
+      message << "the transfer function has " << pieces.size()
+              << " pieces; this GPU's fragment uniforms hold at most " << capacity;
+      error = message.str();
+    }
+  }
+  if (error.empty())
+  {
+    // The shader's rays assume what VTK's cameras give: a homogeneous w of
+    // the inverse projection that depends on the depth alone.
+    vtkNew<vtkMatrix4x4> inverse;
+    vtkMatrix4x4::Invert(projection, inverse);
+    const double* w = inverse->GetData() + 12;
+    if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
+    {
+      error = "the camera's projection is not a perspective or parallel one";
+    }
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error << "; nothing is drawn.");
+    return;
+  }
+
+  auto* shaderProperty = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
+  // Replacements of a tag are keyed by it: adding them again changes nothing.
+  const std::string integrator =
+    std::string("//VTK::Shading::Dec\n") + avos::AdaptiveIntegratorGLSL;
+  shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Dec", true, integrator, false);
+  shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
+    "//VTK::Shading::Init\n  avos_castRay();\n  g_fragColor = avos_result;\n  g_exit = true;\n",
+    false);
+  shaderProperty->AddFragmentShaderReplacement("//VTK::RenderToImage::Exit", true,
+    "//VTK::RenderToImage::Exit\n  avos_writeQuantity();\n", false);
+
+  vtkUniforms* uniforms = shaderProperty->GetFragmentCustomUniforms();
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  float texelScale = 1.0f, texelBias = 0.0f;
+  TexelToScalar(scalars->GetDataType(), texelScale, texelBias);
+  uniforms->SetUniformf("avos_texelScale", texelScale);
+  uniforms->SetUniformf("avos_texelBias", texelBias);
+  const int* dims = input->GetDimensions();
+  const float dimensions[3] = { float(dims[0]), float(dims[1]), float(dims[2]) };
+  uniforms->SetUniform3f("avos_dimensions", dimensions);
+  double range[2];
+  scalars->GetRange(range, 0);
+  // Trilinear values never leave the data's range: knots outside it are never crossed.
+  const float fieldRange[2] = { float(range[0]), float(range[1]) };
+  uniforms->SetUniform2f("avos_fieldRange", fieldRange);
+
+  // The transfer function's pieces. A new count changes the arrays'
+  // declared sizes: removing them first makes VTK rebuild the shader.
+  const int count = static_cast<int>(pieces.size());
+  if (count != internals.PieceCount)
+  {
+    uniforms->RemoveUniform("avos_pieceA");
+    uniforms->RemoveUniform("avos_pieceC");
+    uniforms->RemoveUniform("avos_pieceS");
+    internals.PieceCount = count;
+  }
+  std::vector<float> a(4 * count), c(4 * count), s(4 * count);
+  const auto& tf = internals.TF;
+  // JumpsBefore: a jump is a knot value given twice in either function,
+  // which Finalize() made one piece start; HasJumpIn counts them.
+  float jumps = 0.0f;
+  for (int i = 0; i < count; ++i)
+  {
+    const auto& p = pieces[i];
+    a[4 * i] = float(p.Start);
+    a[4 * i + 1] = float(p.Length);
+    a[4 * i + 2] = float(p.Opacity);
+    a[4 * i + 3] = float(p.OpacitySlope);
+    for (int k = 0; k < 3; ++k)
+    {
+      c[4 * i + k] = float(p.Colour[k]);
+      s[4 * i + k] = float(p.ColourSlope[k]);
+    }
+    c[4 * i + 3] = jumps;
+    s[4 * i + 3] = 0.0f;
+    const double lo = std::nextafter(p.Start, -HUGE_VAL);
+    const double hi = std::nextafter(p.Start, HUGE_VAL);
+    jumps += tf.HasJumpIn(lo, hi) ? 1.0f : 0.0f;
+  }
+  uniforms->SetUniform4fv("avos_pieceA", count, reinterpret_cast<const float(*)[4]>(a.data()));
+  uniforms->SetUniform4fv("avos_pieceC", count, reinterpret_cast<const float(*)[4]>(c.data()));
+  uniforms->SetUniform4fv("avos_pieceS", count, reinterpret_cast<const float(*)[4]>(s.data()));
+  uniforms->SetUniformi("avos_pieceCount", count);
+  uniforms->SetUniformf("avos_jumpsTotal", jumps);
+  const auto below = tf.GetColorBelow();
+  const float belowValues[4] = { float(below[0]), float(below[1]), float(below[2]),
+    float(tf.GetOpacityBelow()) };
+  uniforms->SetUniform4f("avos_below", belowValues);
+  uniforms->SetUniformi(
+    "avos_alphaModel", tf.GetOpacityModel() == avos::numerics::OpacityModel::Alpha ? 1 : 0);
+  uniforms->SetUniformf("avos_unitDistance", float(tf.GetUnitDistance()));
+  uniforms->SetUniformf("avos_maximumColour", float(tf.GetMaximumColor()));
+
+  // The method.
+  uniforms->SetUniformi("avos_method", this->IntegrationMethod);
+  uniforms->SetUniformf("avos_tolerance", float(this->Tolerance));
+  const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
+    float(this->MaximumStep), float(this->RiemannStep) };
+  uniforms->SetUniform4f("avos_steps", steps);
+  uniforms->SetUniformi("avos_earlyTermination", this->EarlyTermination ? 1 : 0);
+  uniforms->SetUniformi("avos_quantity", this->RenderToImage ? this->ImageQuantity : 0);
+
+  // The rays (see avos_setUpRay): in double, the near- and far-plane points'
+  // coefficients in NDC x, y, then the point on the plane through the
+  // volume's centre and the near-to-far vector; grid vectors -> voxel units.
+  vtkNew<vtkMatrix4x4> ndcToWorld, worldToGrid, ndcToGrid;
+  vtkMatrix4x4::Invert(projection, ndcToWorld);
+  vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
+  vtkMatrix4x4::Multiply4x4(worldToGrid, ndcToWorld, ndcToGrid);
+  const double* m = ndcToGrid->GetData();
+  double plane[2][3][3]; // [near, far][offset, x, y][grid axis]
+  double planeW[2];
+  for (int p = 0; p < 2; ++p)
+  {
+    const double z = p == 0 ? -1.0 : 1.0;
+    planeW[p] = m[14] * z + m[15];
+    for (int r = 0; r < 3; ++r)
+    {
+      plane[p][0][r] = (m[4 * r + 2] * z + m[4 * r + 3]) / planeW[p];
+      plane[p][1][r] = m[4 * r] / planeW[p];
+      plane[p][2][r] = m[4 * r + 1] / planeW[p];
+    }
+  }
+  double centreWorld[4] = { 0.0, 0.0, 0.0, 1.0 };
+  double centreGrid[4] = { 0.5 * (dims[0] - 1), 0.5 * (dims[1] - 1), 0.5 * (dims[2] - 1), 1.0 };
+  gridToWorld->MultiplyPoint(centreGrid, centreWorld);
+  double centreNDC[4];
+  projection->MultiplyPoint(centreWorld, centreNDC);
+  const double depth = 0.5 * (std::min(std::max(centreNDC[2] / centreNDC[3], -1.0), 1.0) + 1.0);
+  const double centreFraction = planeW[1] * depth / (planeW[0] * (1.0 - depth) + planeW[1] * depth);
+  float centre[3][3], span[3][3];
+  for (int k = 0; k < 3; ++k)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      const double d = plane[1][k][r] - plane[0][k][r];
+      span[k][r] = static_cast<float>(d);
+      centre[k][r] = static_cast<float>(plane[0][k][r] + centreFraction * d);
+    }
+  }
+  uniforms->SetUniform3fv("avos_centre", 3, centre);
+  uniforms->SetUniform3fv("avos_span", 3, span);
+  const float planeWValues[2] = { float(planeW[0]), float(planeW[1]) };
+  uniforms->SetUniform2f("avos_planeW", planeWValues);
+  uniforms->SetUniformf("avos_centreFraction", float(centreFraction));
+  float gridToVoxel[9];
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      gridToVoxel[3 * k + r] = static_cast<float>(gridToWorld->GetElement(r, k) / voxel);
+    }
+  }
+  uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel);
+
+  this->Superclass::GPURender(ren, vol);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "IntegrationMethod: " << this->GetIntegrationMethodAsString() << "\n";
+  os << indent << "OpacityModel: " << (this->OpacityModel == VTK_OPACITY ? "VTK" : "Extinction")
+     << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "InitialStep: " << this->InitialStep << "\n";
+  os << indent << "MinimumStep: " << this->MinimumStep << "\n";
+  os << indent << "MaximumStep: " << this->MaximumStep << "\n";
+  os << indent << "RiemannStep: " << this->RiemannStep << "\n";
+  os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
+  os << indent << "ImageQuantity: " << this->ImageQuantity << "\n";
+}

@@ -1,0 +1,185 @@
+/**
+ * @class   vtkOpenGLAdaptiveVolumeMapper
+ * @brief   GPU ray casting with the adaptive Simpson rule, inside VTK's GPU ray caster
+ *
+ * vtkOpenGLAdaptiveVolumeMapper is the GPU version (GLSL, single precision)
+ * of the adaptive integration of Campagnolo, Celes and de Figueiredo,
+ * "Accurate Volume Rendering based on Adaptive Numerical Integration"
+ * (SIBGRAPI 2015): the paper's Algorithm 3 with its inner (optical depth)
+ * and outer (colour) integrals stepped in consonance, coupled or decoupled,
+ * and the Riemann sum as the fixed-step baseline. It is a
+ * vtkOpenGLGPUVolumeRayCastMapper whose fragment shader casts each pixel's
+ * ray with that integrator instead of VTK's loop, so it composes with what
+ * VTK's GPU volume rendering does around the ray: opaque geometry through
+ * the depth buffer, other props, interaction, RenderToImage.
+ *
+ * The integrals are those of vtkAdaptiveVolumeMapper (the CPU mapper, in
+ * double), statement for statement: the same rays (through pixel centres,
+ * from the near plane to the depth buffer, clipped to the grid's box, t in
+ * voxel units), the same trilinear field (texels fetched and interpolated in
+ * the shader, not by the texture unit, whose 8-bit filtering errs by 5e-3 on
+ * llvmpipe), the same piecewise-linear transfer function (knots as uniforms,
+ * searched exactly, not VTK's 1D tables), the same opacity models, step
+ * control, error estimates and early termination. Its tests bound the
+ * difference to the CPU core in double on the same rays.
+ *
+ * Supported: one-component point scalars of type unsigned char, unsigned
+ * short, float or double (double is uploaded as float by VTK), the composite
+ * blend mode, linear interpolation, 1D transfer functions without shading.
+ * Refused with an error and nothing drawn (never ignored): other scalar
+ * types, cell scalars, several components, other blend modes, cropping,
+ * clipping planes, masks, shading, gradient opacity, 2D transfer functions,
+ * dual depth peeling of volumes, invalid tolerances or steps, transfer
+ * functions with more pieces than the GPU's uniform storage holds.
+ *
+ * The mapper adds its shader replacements and custom uniforms to the
+ * volume's vtkOpenGLShaderProperty: a vtkVolume rendered by this mapper
+ * should not be shared with another GPU mapper.
+ *
+ * Validation. With RenderToImage on and a float depth image
+ * (SetDepthImageScalarTypeToFloat()), SetImageQuantity() puts one float per
+ * pixel into the depth image instead of the depth: a channel of the
+ * integral, the ray's entry or length, or its sample count. The colour
+ * image of an OpenGL framebuffer has 8 bits per channel; this is how the
+ * tests compare single-precision results with the CPU core.
+ *
+ * @sa vtkAdaptiveVolumeMapper vtkOpenGLGPUVolumeRayCastMapper
+ */
+#ifndef vtkOpenGLAdaptiveVolumeMapper_h
+#define vtkOpenGLAdaptiveVolumeMapper_h
+
+#include "avosRenderingOpenGLAdaptiveVolumeModule.h" // For export macro
+#include "vtkOpenGLGPUVolumeRayCastMapper.h"
+
+#include <memory> // For std::unique_ptr
+#include <string> // For std::string
+
+class AVOSRENDERINGOPENGLADAPTIVEVOLUME_EXPORT vtkOpenGLAdaptiveVolumeMapper
+  : public vtkOpenGLGPUVolumeRayCastMapper
+{
+public:
+  static vtkOpenGLAdaptiveVolumeMapper* New();
+  vtkTypeMacro(vtkOpenGLAdaptiveVolumeMapper, vtkOpenGLGPUVolumeRayCastMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum IntegrationMethods
+  {
+    RIEMANN = 0,       // right-hand Riemann sum, step RiemannStep, T *= exp(-tau h)
+    ADAPTIVE_COUPLED,  // the paper's adaptive Simpson, outer step restarted from the inner one
+    ADAPTIVE_DECOUPLED // the paper's adaptive Simpson, outer step carried on
+  };
+
+  ///@{
+  /**
+   * How the volume rendering integral is evaluated along each ray. Default
+   * ADAPTIVE_COUPLED (the paper's method).
+   */
+  vtkSetClampMacro(IntegrationMethod, int, RIEMANN, ADAPTIVE_DECOUPLED);
+  vtkGetMacro(IntegrationMethod, int);
+  void SetIntegrationMethodToRiemann() { this->SetIntegrationMethod(RIEMANN); }
+  void SetIntegrationMethodToAdaptiveCoupled() { this->SetIntegrationMethod(ADAPTIVE_COUPLED); }
+  void SetIntegrationMethodToAdaptiveDecoupled() { this->SetIntegrationMethod(ADAPTIVE_DECOUPLED); }
+  const char* GetIntegrationMethodAsString();
+  ///@}
+
+  enum OpacityModels
+  {
+    VTK_OPACITY = 0,   // alpha per ScalarOpacityUnitDistance, as VTK's mappers
+    EXTINCTION_OPACITY // tau per voxel unit, as the paper
+  };
+
+  ///@{
+  /**
+   * What the volume property's scalar opacity function means. Default
+   * VTK_OPACITY.
+   */
+  vtkSetClampMacro(OpacityModel, int, VTK_OPACITY, EXTINCTION_OPACITY);
+  vtkGetMacro(OpacityModel, int);
+  void SetOpacityModelToVTK() { this->SetOpacityModel(VTK_OPACITY); }
+  void SetOpacityModelToExtinction() { this->SetOpacityModel(EXTINCTION_OPACITY); }
+  ///@}
+
+  ///@{
+  /**
+   * Adaptive methods: error tolerance eps per RGBA channel (default 0.01,
+   * within (0, 1]; a fifth of it bounds early termination, for Riemann
+   * too), initial, minimum and maximum step in voxel units (defaults 0.5,
+   * 0.1, 2, the paper's). Riemann: its step in voxel units (default 0.5).
+   * Every step lies in [0.001, 1000] with MinimumStep <= MaximumStep
+   * (checked at render time: a ray's work is bounded).
+   */
+  vtkSetMacro(Tolerance, double);
+  vtkGetMacro(Tolerance, double);
+  vtkSetMacro(InitialStep, double);
+  vtkGetMacro(InitialStep, double);
+  vtkSetMacro(MinimumStep, double);
+  vtkGetMacro(MinimumStep, double);
+  vtkSetMacro(MaximumStep, double);
+  vtkGetMacro(MaximumStep, double);
+  vtkSetMacro(RiemannStep, double);
+  vtkGetMacro(RiemannStep, double);
+  ///@}
+
+  ///@{
+  /**
+   * Stop a ray once what it can still add to any channel is below a fifth
+   * of the tolerance (default on).
+   */
+  vtkSetMacro(EarlyTermination, vtkTypeBool);
+  vtkGetMacro(EarlyTermination, vtkTypeBool);
+  vtkBooleanMacro(EarlyTermination, vtkTypeBool);
+  ///@}
+
+  enum ImageQuantities
+  {
+    DEPTH = 0, // VTK's own depth image
+    RED,
+    GREEN,
+    BLUE,
+    ALPHA,
+    RAY_ENTRY,  // voxel units from the near plane to the box (-1: the ray misses it)
+    RAY_LENGTH, // voxel units inside the box, up to the depth buffer
+    SAMPLES     // transfer-function evaluations of the ray
+  };
+
+  ///@{
+  /**
+   * What the depth image of RenderToImage holds (default DEPTH, VTK's
+   * meaning). Any other quantity needs a float depth image
+   * (SetDepthImageScalarTypeToFloat()); rendering refuses it otherwise.
+   */
+  vtkSetClampMacro(ImageQuantity, int, DEPTH, SAMPLES);
+  vtkGetMacro(ImageQuantity, int);
+  ///@}
+
+  /**
+   * Empty when the mapper can render its input with `property` now, else
+   * why not (the message rendering reports). Also called by GPURender.
+   */
+  std::string CheckRenderable(vtkRenderer* ren, vtkVolumeProperty* property);
+
+protected:
+  vtkOpenGLAdaptiveVolumeMapper();
+  ~vtkOpenGLAdaptiveVolumeMapper() override;
+
+  void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  int IntegrationMethod = ADAPTIVE_COUPLED;
+  int OpacityModel = VTK_OPACITY;
+  double Tolerance = 0.01;
+  double InitialStep = 0.5;
+  double MinimumStep = 0.1;
+  double MaximumStep = 2.0;
+  double RiemannStep = 0.5;
+  vtkTypeBool EarlyTermination = 1;
+  int ImageQuantity = DEPTH;
+
+private:
+  vtkOpenGLAdaptiveVolumeMapper(const vtkOpenGLAdaptiveVolumeMapper&) = delete;
+  void operator=(const vtkOpenGLAdaptiveVolumeMapper&) = delete;
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
