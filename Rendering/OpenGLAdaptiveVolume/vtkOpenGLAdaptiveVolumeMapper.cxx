@@ -191,6 +191,8 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& internals = *this->Internals;
   vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
     ren->GetTiledAspectRatio(), -1, 1);
+  vtkNew<vtkMatrix4x4> ndcToWorld;
+  vtkMatrix4x4::Invert(projection, ndcToWorld);
   if (error.empty())
   {
     error = avos::TransferFunctionFromProperty(
@@ -214,9 +216,7 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   {
     // The shader's rays assume what VTK's cameras give: a homogeneous w of
     // the inverse projection that depends on the depth alone.
-    vtkNew<vtkMatrix4x4> inverse;
-    vtkMatrix4x4::Invert(projection, inverse);
-    const double* w = inverse->GetData() + 12;
+    const double* w = ndcToWorld->GetData() + 12;
     if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
     {
       error = "the camera's projection is not a perspective or parallel one";
@@ -268,9 +268,8 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   }
   std::vector<float> a(4 * count), c(4 * count), s(4 * count);
   const auto& tf = internals.TF;
-  // JumpsBefore: a jump is a knot value given twice in either function,
-  // which Finalize() made one piece start; HasJumpIn counts them.
-  float jumps = 0.0f;
+  // The core's jump counts, which the shader's avos_hasJumpIn reads as HasJumpIn does.
+  const std::vector<std::size_t>& jumpsBefore = tf.GetJumpsBefore();
   for (int i = 0; i < count; ++i)
   {
     const auto& p = pieces[i];
@@ -283,17 +282,14 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
       c[4 * i + k] = float(p.Colour[k]);
       s[4 * i + k] = float(p.ColourSlope[k]);
     }
-    c[4 * i + 3] = jumps;
+    c[4 * i + 3] = float(jumpsBefore[i]);
     s[4 * i + 3] = 0.0f;
-    const double lo = std::nextafter(p.Start, -HUGE_VAL);
-    const double hi = std::nextafter(p.Start, HUGE_VAL);
-    jumps += tf.HasJumpIn(lo, hi) ? 1.0f : 0.0f;
   }
   uniforms->SetUniform4fv("avos_pieceA", count, reinterpret_cast<const float(*)[4]>(a.data()));
   uniforms->SetUniform4fv("avos_pieceC", count, reinterpret_cast<const float(*)[4]>(c.data()));
   uniforms->SetUniform4fv("avos_pieceS", count, reinterpret_cast<const float(*)[4]>(s.data()));
   uniforms->SetUniformi("avos_pieceCount", count);
-  uniforms->SetUniformf("avos_jumpsTotal", jumps);
+  uniforms->SetUniformf("avos_jumpsTotal", float(jumpsBefore[count]));
   const auto below = tf.GetColorBelow();
   const float belowValues[4] = { float(below[0]), float(below[1]), float(below[2]),
     float(tf.GetOpacityBelow()) };
@@ -315,8 +311,7 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   // The rays (see avos_setUpRay): in double, the near- and far-plane points'
   // coefficients in NDC x, y, then the point on the plane through the
   // volume's centre and the near-to-far vector; grid vectors -> voxel units.
-  vtkNew<vtkMatrix4x4> ndcToWorld, worldToGrid, ndcToGrid;
-  vtkMatrix4x4::Invert(projection, ndcToWorld);
+  vtkNew<vtkMatrix4x4> worldToGrid, ndcToGrid;
   vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
   vtkMatrix4x4::Multiply4x4(worldToGrid, ndcToWorld, ndcToGrid);
   const double* m = ndcToGrid->GetData();

@@ -18,6 +18,7 @@
 // 5e-5); BluntFin keeps 1e-5. Double-precision ray set-up would remove it.
 #include "vtkOpenGLAdaptiveVolumeMapper.h"
 
+#include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
@@ -115,15 +116,7 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
 {
   // The ray geometry, in double, as vtkAdaptiveVolumeMapper builds it.
   vtkNew<vtkMatrix4x4> gridToWorld, worldToGrid, ndcToWorld;
-  const double* spacing = data->GetSpacing();
-  const double* origin = data->GetOrigin();
-  for (int a = 0; a < 3; ++a)
-  {
-    gridToWorld->SetElement(a, a, spacing[a]);
-    gridToWorld->SetElement(a, 3, origin[a]);
-  }
-  vtkMatrix4x4::Multiply4x4(volume->GetMatrix(), gridToWorld, gridToWorld);
-  const double voxel = std::min({ spacing[0], spacing[1], spacing[2] });
+  const double voxel = avos::GridToWorld(data, volume->GetMatrix(), gridToWorld);
   vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
   vtkMatrix4x4::Invert(renderer->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
                          renderer->GetTiledAspectRatio(), -1, 1),

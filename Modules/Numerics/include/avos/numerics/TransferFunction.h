@@ -195,6 +195,9 @@ public:
   // The pieces Finalize() built (empty before it, or for invalid knots), and
   // the values held below the first knot.
   const std::vector<Piece>& GetPieces() const { return this->Pieces; }
+  // JumpsBefore()[k]: the jumps among the first k piece starts (k up to the
+  // piece count); what HasJumpIn counts. Empty when GetPieces() is.
+  const std::vector<std::size_t>& GetJumpsBefore() const { return this->JumpsBefore; }
   Real GetOpacityBelow() const { return this->Opacities.front(); }
   Color GetColorBelow() const { return this->Colors.front(); }
 
