@@ -54,6 +54,13 @@ bool TexelToScalar(int scalarType, float& scale, float& bias)
   }
 }
 
+// x = hi + lo to about 2^-48 relative: hi is x rounded to float, lo the rest.
+void Split(double x, float& hi, float& lo)
+{
+  hi = static_cast<float>(x);
+  lo = static_cast<float>(x - static_cast<double>(hi));
+}
+
 } // namespace
 
 class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
@@ -233,6 +240,12 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   const std::string integrator =
     std::string("//VTK::Shading::Dec\n") + avos::AdaptiveIntegratorGLSL;
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Dec", true, integrator, false);
+  // Directives must precede any declaration: after the version line.
+  this->DoublePrecisionRays = GLEW_ARB_gpu_shader_fp64 ? 1 : 0;
+  shaderProperty->AddFragmentShaderReplacement("//VTK::System::Dec", true,
+    this->DoublePrecisionRays ? "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n"
+                              : "//VTK::System::Dec\n",
+    false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
     "//VTK::Shading::Init\n  avos_castRay();\n  g_fragColor = avos_result;\n  g_exit = true;\n",
     false);
@@ -335,30 +348,40 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   projection->MultiplyPoint(centreWorld, centreNDC);
   const double depth = 0.5 * (std::min(std::max(centreNDC[2] / centreNDC[3], -1.0), 1.0) + 1.0);
   const double centreFraction = planeW[1] * depth / (planeW[0] * (1.0 - depth) + planeW[1] * depth);
-  float centre[3][3], span[3][3];
+  // Each double goes as float hi + lo (the shader adds them back in double
+  // where it has fp64), so nothing here is rounded to float's 24 bits.
+  float centre[2][3][3], span[2][3][3];
   for (int k = 0; k < 3; ++k)
   {
     for (int r = 0; r < 3; ++r)
     {
       const double d = plane[1][k][r] - plane[0][k][r];
-      span[k][r] = static_cast<float>(d);
-      centre[k][r] = static_cast<float>(plane[0][k][r] + centreFraction * d);
+      Split(d, span[0][k][r], span[1][k][r]);
+      Split(plane[0][k][r] + centreFraction * d, centre[0][k][r], centre[1][k][r]);
     }
   }
-  uniforms->SetUniform3fv("avos_centre", 3, centre);
-  uniforms->SetUniform3fv("avos_span", 3, span);
-  const float planeWValues[2] = { float(planeW[0]), float(planeW[1]) };
-  uniforms->SetUniform2f("avos_planeW", planeWValues);
-  uniforms->SetUniformf("avos_centreFraction", float(centreFraction));
-  float gridToVoxel[9];
+  uniforms->SetUniform3fv("avos_centre", 3, centre[0]);
+  uniforms->SetUniform3fv("avos_centreLo", 3, centre[1]);
+  uniforms->SetUniform3fv("avos_span", 3, span[0]);
+  uniforms->SetUniform3fv("avos_spanLo", 3, span[1]);
+  float planeWValues[2][2], fraction[2];
+  Split(planeW[0], planeWValues[0][0], planeWValues[1][0]);
+  Split(planeW[1], planeWValues[0][1], planeWValues[1][1]);
+  Split(centreFraction, fraction[0], fraction[1]);
+  uniforms->SetUniform2f("avos_planeW", planeWValues[0]);
+  uniforms->SetUniform2f("avos_planeWLo", planeWValues[1]);
+  uniforms->SetUniform2f("avos_centreFraction", fraction);
+  float gridToVoxel[2][9];
   for (int r = 0; r < 3; ++r)
   {
     for (int k = 0; k < 3; ++k)
     {
-      gridToVoxel[3 * k + r] = static_cast<float>(gridToWorld->GetElement(r, k) / voxel);
+      Split(gridToWorld->GetElement(r, k) / voxel, gridToVoxel[0][3 * k + r],
+        gridToVoxel[1][3 * k + r]);
     }
   }
-  uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel);
+  uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel[0]);
+  uniforms->SetUniformMatrix3x3("avos_gridToVoxelLo", gridToVoxel[1]);
 
   this->Superclass::GPURender(ren, vol);
 }
@@ -377,4 +400,5 @@ void vtkOpenGLAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RiemannStep: " << this->RiemannStep << "\n";
   os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
   os << indent << "ImageQuantity: " << this->ImageQuantity << "\n";
+  os << indent << "DoublePrecisionRays: " << this->DoublePrecisionRays << "\n";
 }

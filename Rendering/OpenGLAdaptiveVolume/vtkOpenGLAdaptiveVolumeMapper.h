@@ -153,6 +153,15 @@ public:
   ///@}
 
   /**
+   * Whether the last render set its rays up and placed its samples in double
+   * precision (1: the context has GL_ARB_gpu_shader_fp64, core since OpenGL
+   * 4.0; positions then err by about 1e-16 of the volume's size) or in float
+   * (0: about 6e-8 of it, which a grazing entry face can magnify along the
+   * ray tenfold). The integrals themselves are always in float.
+   */
+  vtkGetMacro(DoublePrecisionRays, vtkTypeBool);
+
+  /**
    * Empty when the mapper can render its input with `property` now, else
    * why not (the message rendering reports). Also called by GPURender.
    */
@@ -173,6 +182,7 @@ protected:
   double RiemannStep = 0.5;
   vtkTypeBool EarlyTermination = 1;
   int ImageQuantity = DEPTH;
+  vtkTypeBool DoublePrecisionRays = 0;
 
 private:
   vtkOpenGLAdaptiveVolumeMapper(const vtkOpenGLAdaptiveVolumeMapper&) = delete;

@@ -19,14 +19,32 @@ float avos_texel(ivec3 p)
   return texelFetch(in_volume[0], p, 0).r * avos_texelScale + avos_texelBias;
 }
 
+// Positions: where the GPU has double precision (GL_ARB_gpu_shader_fp64,
+// core since OpenGL 4.0), ray set-up and sample positions are computed in
+// double and only a cell's local coordinates in float, so a position errs by
+// about 1e-16 of the volume's size instead of float's 6e-8 (1.5e-5 voxel at
+// 256, which a grazing entry face magnifies into along-ray shifts of 3e-4).
+// Elsewhere in float, with those errors.
+#ifdef GL_ARB_gpu_shader_fp64
+#define avos_real double
+#define avos_real2 dvec2
+#define avos_real3 dvec3
+#define avos_real3x3 dmat3
+#else
+#define avos_real float
+#define avos_real2 vec2
+#define avos_real3 vec3
+#define avos_real3x3 mat3
+#endif
+
 // Trilinear interpolation at grid coordinates g, clamped onto the grid as the
 // core's TrilinearVolume does (a ray clipped to the box strays by rounding).
-float avos_field(vec3 g)
+float avos_field(avos_real3 g)
 {
-  vec3 last = avos_dimensions - vec3(1.0);
-  vec3 p = clamp(g, vec3(0.0), last);
-  vec3 cell = min(floor(p), last - vec3(1.0));
-  vec3 f = p - cell;
+  avos_real3 last = avos_real3(avos_dimensions) - avos_real3(1.0);
+  avos_real3 p = clamp(g, avos_real3(0.0), last);
+  avos_real3 cell = min(floor(p), last - avos_real3(1.0));
+  vec3 f = vec3(p - cell);
   ivec3 c = ivec3(cell);
   float v000 = avos_texel(c);
   float v100 = avos_texel(c + ivec3(1, 0, 0));
@@ -163,8 +181,8 @@ bool avos_hasKnotIn(float lo, float hi)
 
 // ----------------------------------------------------------------- the ray
 // Grid position at t voxel units from the ray's entry into the box.
-vec3 avos_rayOrigin;
-vec3 avos_rayDirection;
+avos_real3 avos_rayOrigin;
+avos_real3 avos_rayDirection;
 int avos_samples; // transfer-function evaluations of this ray
 
 struct avos_Sample
@@ -178,7 +196,7 @@ avos_Sample avos_sample(float t)
 {
   ++avos_samples;
   avos_Sample s;
-  s.Scalar = avos_field(avos_rayOrigin + t * avos_rayDirection);
+  s.Scalar = avos_field(avos_rayOrigin + avos_real(t) * avos_rayDirection);
   avos_classify(s.Scalar, s.Tau, s.Colour);
   return s;
 }
@@ -499,48 +517,68 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
 float avos_rayEntry;  // voxel units from the near plane (or -1: missed)
 float avos_rayLength; // voxel units inside the box, up to the depth buffer
 
+// A double the mapper split into float hi + lo (hi alone without fp64).
+avos_real avos_join(float hi, float lo)
+{
+  return avos_real(hi) + avos_real(lo);
+}
+
+avos_real3 avos_join(vec3 hi, vec3 lo)
+{
+  return avos_real3(hi) + avos_real3(lo);
+}
+
 // The ray through this fragment's pixel centre from the near plane to the
 // depth buffer (as vtkAdaptiveVolumeMapper casts it), clipped to the grid's
 // box [0, n - 1]. False when it misses the box. Its points are affine in
 // NDC x, y on any plane of constant depth (a camera's homogeneous w depends
 // on the depth alone), so the mapper gives, in double, the coefficients of
 // the point on the plane through the volume's centre and of the near-to-far
-// vector: positions in float then carry errors of the volume's size, not of
-// the camera's distance. The point at depth d lies at the fraction
+// vector: even in float, positions then carry errors of the volume's size,
+// not of the camera's distance. The point at depth d lies at the fraction
 // w_f d / (w_n (1 - d) + w_f d) of the way from the near to the far plane.
 bool avos_setUpRay()
 {
-  vec2 window = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
-  vec2 ndc = 2.0 * window - vec2(1.0);
-  float depth = texture2D(in_depthSampler, window).x;
-  vec3 centre = avos_centre[0] + ndc.x * avos_centre[1] + ndc.y * avos_centre[2];
-  vec3 span = avos_span[0] + ndc.x * avos_span[1] + ndc.y * avos_span[2];
-  float total = length(avos_gridToVoxel * span);
-  float fraction = avos_planeW.y * depth / (avos_planeW.x * (1.0 - depth) + avos_planeW.y * depth);
+  // The window's size is an integer: exact from its float inverse.
+  avos_real2 size = floor(avos_real2(1.0) / avos_real2(in_inverseWindowSize) + avos_real2(0.5));
+  avos_real2 window = (avos_real2(gl_FragCoord.xy) - avos_real2(in_windowLowerLeftCorner)) / size;
+  avos_real2 ndc = avos_real(2.0) * window - avos_real2(1.0);
+  avos_real depth = avos_real(texture2D(in_depthSampler, vec2(window)).x);
+  avos_real3 centre = avos_join(avos_centre[0], avos_centreLo[0]) +
+    ndc.x * avos_join(avos_centre[1], avos_centreLo[1]) +
+    ndc.y * avos_join(avos_centre[2], avos_centreLo[2]);
+  avos_real3 span = avos_join(avos_span[0], avos_spanLo[0]) +
+    ndc.x * avos_join(avos_span[1], avos_spanLo[1]) +
+    ndc.y * avos_join(avos_span[2], avos_spanLo[2]);
+  avos_real3x3 gridToVoxel = avos_real3x3(avos_gridToVoxel) + avos_real3x3(avos_gridToVoxelLo);
+  avos_real total = length(gridToVoxel * span);
+  avos_real wn = avos_join(avos_planeW.x, avos_planeWLo.x);
+  avos_real wf = avos_join(avos_planeW.y, avos_planeWLo.y);
+  avos_real fraction = wf * depth / (wn * (avos_real(1.0) - depth) + wf * depth);
   avos_rayEntry = -1.0;
   avos_rayLength = 0.0;
-  if (!(total > 0.0))
+  if (!(total > avos_real(0.0)))
   {
     return false;
   }
-  vec3 direction = span / total;
+  avos_real3 direction = span / total;
   // u: voxel units from the centre plane, which lies tc from the near plane.
-  float tc = avos_centreFraction * total;
-  float u0 = -tc;
-  float u1 = fraction * total - tc;
-  vec3 last = avos_dimensions - vec3(1.0);
+  avos_real tc = avos_join(avos_centreFraction.x, avos_centreFraction.y) * total;
+  avos_real u0 = -tc;
+  avos_real u1 = fraction * total - tc;
+  avos_real3 last = avos_real3(avos_dimensions) - avos_real3(1.0);
   for (int a = 0; a < 3; ++a)
   {
-    if (direction[a] == 0.0)
+    if (direction[a] == avos_real(0.0))
     {
-      if (centre[a] < 0.0 || centre[a] > last[a])
+      if (centre[a] < avos_real(0.0) || centre[a] > last[a])
       {
         return false;
       }
       continue;
     }
-    float ua = (0.0 - centre[a]) / direction[a];
-    float ub = (last[a] - centre[a]) / direction[a];
+    avos_real ua = -centre[a] / direction[a];
+    avos_real ub = (last[a] - centre[a]) / direction[a];
     u0 = max(u0, min(ua, ub));
     u1 = min(u1, max(ua, ub));
   }
@@ -550,8 +588,8 @@ bool avos_setUpRay()
   }
   avos_rayOrigin = centre + u0 * direction;
   avos_rayDirection = direction;
-  avos_rayEntry = tc + u0;
-  avos_rayLength = u1 - u0;
+  avos_rayEntry = float(tc + u0);
+  avos_rayLength = float(u1 - u0);
   return true;
 }
 

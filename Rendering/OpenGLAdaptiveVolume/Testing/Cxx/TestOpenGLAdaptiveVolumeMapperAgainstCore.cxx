@@ -6,16 +6,21 @@
 // Asserted per RGBA channel: max |difference| <= eps, except at eps 1e-4
 // where float and double can decide a step's acceptance differently near
 // the threshold: both results are within the tolerance of the integral, so
-// they differ by at most 2 eps (measured: 1.1 eps on BluntFin). On the
-// analytic Marschner-Lobb volume (float data, a transfer function with kinks,
-// a jump and a spike, both opacity models) the 99th percentile is <= 1e-5
-// and the rays' entry and length are within 1e-4 voxel. On BluntFin and
-// Bonsai with their paper transfer functions (8-bit data; skipped without
-// the shared data) the rays' positions carry float rounding of the volume's
-// size (1.5e-5 voxel at 256) that a grazing entry face turns into up to
-// 3.2e-4 voxel along the ray (measured; bound 5e-4), and Bonsai's steep
-// transfer function turns that into a 99th percentile up to 3.5e-5 (bound
-// 5e-5); BluntFin keeps 1e-5. Double-precision ray set-up would remove it.
+// they differ by at most 2 eps (measured: 1.1 eps on BluntFin). The rays'
+// entry and length are within 1e-4 voxel where the mapper has double-
+// precision rays (GL_ARB_gpu_shader_fp64; measured 2.6e-5 on all scenes, the
+// float rounding of the written values), else within 5e-4 (float positions
+// of the volume's size, which a grazing entry face magnifies: 3.2e-4 on
+// BluntFin). The 99th percentile is <= 1e-5 on the analytic Marschner-Lobb
+// volume (float data, a transfer function with kinks, a jump and a spike,
+// both opacity models) and on BluntFin (8-bit, paper transfer function;
+// skipped without the shared data). On Bonsai (its paper transfer function
+// in VTK's opacity model) it reaches 3.4e-5 (bound 4e-5): at eps 1e-4, 70 of
+// the 71 rays more than 1e-5 off took a different number of samples than the
+// core, i.e. float and double accepted different steps, and each result is
+// within the tolerance of the integral; perturbing the core's samples by
+// float's relative rounding (1.2e-7) moves its own 99th percentile by 5e-8
+// only, so it is the integrator's float arithmetic, not the positions.
 #include "vtkOpenGLAdaptiveVolumeMapper.h"
 
 #include "avosImageGrid.h"
@@ -64,7 +69,7 @@ struct Case
   vtkVolumeProperty* Property;
   int OpacityModel;
   double Azimuth, Elevation;
-  double GeometryBound = 1e-4; // voxel units
+  double GeometryBound = 1e-4; // voxel units, with double-precision rays
   double PercentileBound = 1e-5;
 };
 
@@ -201,11 +206,13 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
       rayLength[i] = t1 - t0;
     }
   }
-  std::printf("%s: %d rays in the box, %d differ in coverage; entry within %.2e, length within "
-              "%.2e voxel\n",
-    c.Name.c_str(), hits, coverage, worstEntry, worstLength);
-  if (hits < Size * Size / 8 || coverage > Size / 4 || !(worstEntry <= c.GeometryBound) ||
-    !(worstLength <= c.GeometryBound))
+  const bool doubleRays = mapper->GetDoublePrecisionRays();
+  const double geometryBound = doubleRays ? c.GeometryBound : 5e-4;
+  std::printf("%s (%s rays): %d rays in the box, %d differ in coverage; entry within %.2e, length "
+              "within %.2e voxel\n",
+    c.Name.c_str(), doubleRays ? "double" : "float", hits, coverage, worstEntry, worstLength);
+  if (hits < Size * Size / 8 || coverage > Size / 4 || !(worstEntry <= geometryBound) ||
+    !(worstLength <= geometryBound))
   {
     std::cerr << "FAILED: the GPU's rays are not the CPU mapper's\n";
     ok = false;
@@ -362,7 +369,7 @@ int TestOpenGLAdaptiveVolumeMapperAgainstCore(int argc, char* argv[])
     vtkNew<vtkVolumeProperty> property;
     property->SetInterpolationTypeToLinear();
     ok &= tf->FillVolumeProperty(property);
-    ok &= Run({ "BluntFin", reader, property, 1, 20.0, 30.0, 5e-4, 1e-5 });
+    ok &= Run({ "BluntFin", reader, property, 1, 20.0, 30.0, 1e-4, 1e-5 });
   }
   {
     vtkNew<vtkXMLImageDataReader> reader;
@@ -373,7 +380,7 @@ int TestOpenGLAdaptiveVolumeMapperAgainstCore(int argc, char* argv[])
     vtkNew<vtkVolumeProperty> property;
     property->SetInterpolationTypeToLinear();
     ok &= tf->FillVolumeProperty(property);
-    ok &= Run({ "Bonsai, VTK opacity", reader, property, 0, 37.0, 23.0, 5e-4, 5e-5 });
+    ok &= Run({ "Bonsai, VTK opacity", reader, property, 0, 37.0, 23.0, 1e-4, 4e-5 });
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
