@@ -12,7 +12,9 @@
 #include "vtkGPUVolumeRayCastMapper.h"
 #include "vtkImageData.h"
 #include "vtkMetaImageReader.h"
+#include "vtkNew.h"
 #include "vtkNrrdReader.h"
+#include "vtkOpenGLAdaptiveVolumeMapper.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
@@ -139,13 +141,15 @@ void DefaultTransferFunction(const double range[2], double voxel, vtkVolumePrope
 }
 
 const std::vector<std::string> MethodSettings::Methods = { "riemann", "coupled", "decoupled",
-  "piecewise", "reference", "vtk-fixed-point", "vtk-gpu" };
+  "piecewise", "reference", "vtk-fixed-point", "vtk-gpu", "gpu-riemann", "gpu-coupled",
+  "gpu-decoupled" };
 
 std::string MethodSettings::Label() const
 {
   std::ostringstream out;
   out << this->Method;
-  if (this->Method == "coupled" || this->Method == "decoupled")
+  if (this->Method == "coupled" || this->Method == "decoupled" || this->Method == "gpu-coupled" ||
+    this->Method == "gpu-decoupled")
   {
     out << " eps " << this->Tolerance << " (hmin " << this->HMin << ", hmax " << this->HMax << ")";
   }
@@ -178,6 +182,26 @@ vtkSmartPointer<vtkVolumeMapper> MakeMapper(const MethodSettings& settings, doub
   {
     auto gpu = vtkSmartPointer<vtkGPUVolumeRayCastMapper>::New();
     gpu->SetSampleDistance(settings.Step * voxel);
+    gpu->SetAutoAdjustSampleDistances(0);
+    gpu->SetUseJittering(0);
+    return gpu;
+  }
+  const std::map<std::string, int> gpuMethods = { { "gpu-riemann",
+                                                    vtkOpenGLAdaptiveVolumeMapper::RIEMANN },
+    { "gpu-coupled", vtkOpenGLAdaptiveVolumeMapper::ADAPTIVE_COUPLED },
+    { "gpu-decoupled", vtkOpenGLAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED } };
+  const auto gpuMethod = gpuMethods.find(settings.Method);
+  if (gpuMethod != gpuMethods.end())
+  {
+    auto gpu = vtkSmartPointer<vtkOpenGLAdaptiveVolumeMapper>::New();
+    gpu->SetIntegrationMethod(gpuMethod->second);
+    gpu->SetOpacityModel(settings.VTKOpacity ? vtkOpenGLAdaptiveVolumeMapper::VTK_OPACITY
+                                             : vtkOpenGLAdaptiveVolumeMapper::EXTINCTION_OPACITY);
+    gpu->SetTolerance(settings.Tolerance);
+    gpu->SetRiemannStep(settings.Step);
+    gpu->SetInitialStep(settings.H0);
+    gpu->SetMinimumStep(settings.HMin);
+    gpu->SetMaximumStep(settings.HMax);
     gpu->SetAutoAdjustSampleDistances(0);
     gpu->SetUseJittering(0);
     return gpu;
@@ -251,6 +275,17 @@ std::vector<double> RenderSession::Render(vtkVolumeMapper* mapper, int frames, v
   {
     observer = mapper->AddObserver(vtkCommand::ProgressEvent, progress);
   }
+  if (auto* gpu = vtkOpenGLAdaptiveVolumeMapper::SafeDownCast(mapper))
+  {
+    // Refused settings are reported once here, not once per frame.
+    mapper->GetInputAlgorithm()->Update();
+    const std::string problem = gpu->CheckRenderable(this->Renderer, this->Volume->GetProperty());
+    if (!problem.empty())
+    {
+      std::cerr << "error: " << problem << "\n";
+      return std::vector<double>();
+    }
+  }
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
   std::vector<double> times;
   vtkNew<vtkTimerLog> timer;
@@ -286,6 +321,47 @@ std::vector<float> RenderSession::Image() const
     {
       std::copy(pixels->GetPointer(0), pixels->GetPointer(0) + rgba.size(), rgba.begin());
     }
+  }
+  else if (auto* gpu = vtkOpenGLAdaptiveVolumeMapper::SafeDownCast(mapper))
+  {
+    // The shader's float values, one quantity per render into the float
+    // depth image (the window itself has 8 bits per channel). Pixels with no
+    // fragment keep the image's clear value, 1, in every quantity: where the
+    // ray's entry and length both read 1 the pixel is transparent.
+    gpu->SetRenderToImage(1);
+    gpu->SetDepthImageScalarTypeToFloat();
+    const int quantities[6] = { vtkOpenGLAdaptiveVolumeMapper::RED,
+      vtkOpenGLAdaptiveVolumeMapper::GREEN, vtkOpenGLAdaptiveVolumeMapper::BLUE,
+      vtkOpenGLAdaptiveVolumeMapper::ALPHA, vtkOpenGLAdaptiveVolumeMapper::RAY_ENTRY,
+      vtkOpenGLAdaptiveVolumeMapper::RAY_LENGTH };
+    const std::size_t pixels = static_cast<std::size_t>(this->Width) * this->Height;
+    std::vector<float> values(6 * pixels, 0.0f);
+    vtkNew<vtkImageData> channel;
+    for (int q = 0; q < 6; ++q)
+    {
+      gpu->SetImageQuantity(quantities[q]);
+      this->Window->Render();
+      gpu->GetDepthImage(channel);
+      vtkDataArray* scalars = channel->GetPointData()->GetScalars();
+      const int* dims = channel->GetDimensions();
+      if (scalars && dims[0] == this->Width && dims[1] == this->Height)
+      {
+        for (std::size_t i = 0; i < pixels; ++i)
+        {
+          values[q * pixels + i] = static_cast<float>(scalars->GetComponent(vtkIdType(i), 0));
+        }
+      }
+    }
+    for (std::size_t i = 0; i < pixels; ++i)
+    {
+      const bool fragment = !(values[4 * pixels + i] == 1.0f && values[5 * pixels + i] == 1.0f);
+      for (int c = 0; c < 4 && fragment; ++c)
+      {
+        rgba[4 * i + c] = values[c * pixels + i];
+      }
+    }
+    gpu->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::DEPTH);
+    gpu->SetRenderToImage(0);
   }
   else if (auto* fixedPoint = vtkFixedPointVolumeRayCastMapper::SafeDownCast(mapper))
   {

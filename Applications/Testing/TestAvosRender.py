@@ -37,7 +37,7 @@ if not os.path.exists(VOLUME):
 
 os.makedirs(SCRATCH, exist_ok=True)
 for method in ["riemann", "coupled", "decoupled", "piecewise", "reference", "vtk-fixed-point",
-               "vtk-gpu"]:
+               "vtk-gpu", "gpu-riemann", "gpu-coupled", "gpu-decoupled"]:
     png = os.path.join(SCRATCH, method + ".png")
     report = os.path.join(SCRATCH, method + ".json")
     for path in (png, report):
@@ -53,7 +53,7 @@ for method in ["riemann", "coupled", "decoupled", "piecewise", "reference", "vtk
         check(r["method"] == method and r["width"] == 64 and r["height"] == 48 and
               r["frames"] == 2 and 0 < r["min_seconds"] <= r["median_seconds"],
               method + " report fields")
-        if not method.startswith("vtk-"):
+        if not method.startswith(("vtk-", "gpu-")):
             check(r["rays_cast"] > 0 and r["mean_samples_per_ray"] > 1, method + " statistics")
         if method == "piecewise":
             check(r["mean_pieces_per_ray"] > 1 and r["mean_cells_per_ray"] > 1,
@@ -155,6 +155,22 @@ if code == 0:
     c = json.load(open(report))["compare"]
     check(c["pixels"] > 0 and all(0.0 < v <= 1.0 for v in c["ssim_rgba"]) and
           all(v is None or v > 20.0 for v in c["psnr_rgba"]), "compare figures: %r" % c)
+
+# The GPU mapper's EXR holds the shader's float values: against the CPU mapper
+# with the same method on the same frame, Riemann within 1e-4 (the same
+# samples; float against double), coupled and decoupled within 2 eps (both
+# within eps of the integral, their steps differ: the CPU skips empty space).
+for method, tolerance, bound in [("riemann", "0.01", 1e-4), ("coupled", "0.001", 0.002),
+                                 ("decoupled", "0.001", 0.002)]:
+    cpu = os.path.join(SCRATCH, "cpu-" + method + ".exr")
+    gpu_report = os.path.join(SCRATCH, "gpu-" + method + ".json")
+    run(VOLUME, "--tf", TF, "--size", "32x24", "--method", method, "--tolerance", tolerance,
+        "--output", cpu)
+    code_gpu, out_gpu = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "gpu-" + method,
+                            "--tolerance", tolerance, "--compare", cpu, "--report", gpu_report)
+    check(code_gpu == 0 and json.load(open(gpu_report))["compare"]["pixels"] > 100 and
+          max(json.load(open(gpu_report))["compare"]["max_error_rgba"]) <= bound,
+          "gpu-%s within %g of the CPU mapper: %s" % (method, bound, out_gpu))
 
 same = subprocess.run([COMPARE, dicom + ".exr", nhdr + ".exr", "--json"], capture_output=True,
                       text=True)
@@ -328,7 +344,9 @@ for args, message in [((), "no input"),
                        "--average-range"),
                       ((VOLUME, "--method", "riemann", "--step", "1e-6"), "--step must be within"),
                       ((VOLUME, "--hmin", "0"), "--hmin must be within"),
-                      ((VOLUME, "--threads", "-1"), "--threads")]:
+                      ((VOLUME, "--threads", "-1"), "--threads"),
+                      ((VOLUME, "--method", "gpu-coupled", "--clip", "1,0,0,10,10,10"),
+                       "clipping planes are not supported")]:
     code, out = run(*args)
     check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
 
