@@ -1,6 +1,7 @@
 #include "vtkOpenGLAdaptiveVolumeMapper.h"
 
 #include "avosAdaptiveIntegratorGLSL.h"
+#include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
 #include "vtkAdaptiveVolumeMapper.h"
@@ -11,9 +12,11 @@
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLRenderWindow.h"
 #include "vtkOpenGLShaderProperty.h"
 #include "vtkPlaneCollection.h"
 #include "vtkRenderer.h"
+#include "vtkTextureObject.h"
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -68,6 +71,16 @@ class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
 public:
   avos::numerics::TransferFunction<double> TF;
   int PieceCount = -1; // the size the piece arrays were declared with
+
+  // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
+  // change) and their visibility as a 3D texture (rebuilt when the ranges,
+  // the property, the opacity model or the voxel size change).
+  avos::EmptySpaceRanges Ranges;
+  vtkNew<vtkTextureObject> Blocks;
+  vtkMTimeType BlocksRangesTime = 0;
+  vtkMTimeType BlocksPropertyTime = 0;
+  int BlocksModel = -1;
+  double BlocksVoxel = 0.0;
 };
 
 //------------------------------------------------------------------------------
@@ -247,7 +260,9 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
                               : "//VTK::System::Dec\n",
     false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
-    "//VTK::Shading::Init\n  avos_castRay();\n  g_fragColor = avos_result;\n  g_exit = true;\n",
+    "//VTK::Shading::Init\n  avos_castRay();\n"
+    "  g_fragColor = avos_result.a < 0.0 ? vec4(1.0, 0.0, 1.0, 1.0) : avos_result;\n"
+    "  g_exit = true;\n",
     false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::RenderToImage::Exit", true,
     "//VTK::RenderToImage::Exit\n  avos_writeQuantity();\n", false);
@@ -320,6 +335,62 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   uniforms->SetUniform4f("avos_steps", steps);
   uniforms->SetUniformi("avos_earlyTermination", this->EarlyTermination ? 1 : 0);
   uniforms->SetUniformi("avos_quantity", this->RenderToImage ? this->ImageQuantity : 0);
+  uniforms->SetUniformi("avos_two", 2); // the shader's loop-limit canary (avos_castRay)
+
+  // Empty-space skipping (see avos_nextSegment): the blocks' visibility for
+  // this transfer function, uploaded when it changes.
+  uniforms->SetUniformi("avos_skipping", this->EmptySpaceSkipping ? 1 : 0);
+  uniforms->SetUniformf(
+    "avos_blockSize", static_cast<float>(avos::numerics::EmptySpaceMap<double>::BlockSize));
+  // Against rounding of the block crossings: 1e-6 voxel in double, 1e-3 in
+  // float (t of a few hundred voxels carries 3e-5).
+  uniforms->SetUniformf("avos_segmentPad", this->DoublePrecisionRays ? 1e-6f : 1e-3f);
+  vtkTextureObject* blocks = internals.Blocks;
+  if (this->EmptySpaceSkipping)
+  {
+    auto& map = internals.Ranges.GetMap();
+    internals.Ranges.Update(scalars, dims); // the types TexelToScalar accepts all work
+    if (internals.BlocksRangesTime != internals.Ranges.GetTime() ||
+      internals.BlocksPropertyTime != property->GetMTime() ||
+      internals.BlocksModel != this->OpacityModel || internals.BlocksVoxel != voxel ||
+      blocks->GetHandle() == 0)
+    {
+      map.Classify(tf);
+      std::vector<unsigned char> visible;
+      visible.reserve(map.GetNumberOfBlocks());
+      for (int z = 0; z < map.GetNumberOfBlocks(2); ++z)
+      {
+        for (int y = 0; y < map.GetNumberOfBlocks(1); ++y)
+        {
+          for (int x = 0; x < map.GetNumberOfBlocks(0); ++x)
+          {
+            visible.push_back(map.IsVisible(x, y, z) ? 255 : 0);
+          }
+        }
+      }
+      blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
+      blocks->SetMinificationFilter(vtkTextureObject::Nearest);
+      blocks->SetMagnificationFilter(vtkTextureObject::Nearest);
+      blocks->Create3DFromRaw(map.GetNumberOfBlocks(0), map.GetNumberOfBlocks(1),
+        map.GetNumberOfBlocks(2), 1, VTK_UNSIGNED_CHAR, visible.data());
+      internals.BlocksRangesTime = internals.Ranges.GetTime();
+      internals.BlocksPropertyTime = property->GetMTime();
+      internals.BlocksModel = this->OpacityModel;
+      internals.BlocksVoxel = voxel;
+    }
+  }
+  else if (internals.BlocksModel != -1 || blocks->GetHandle() == 0)
+  {
+    // Never read, but a sampler needs a texture of its type on its unit.
+    unsigned char one = 255;
+    blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
+    blocks->Create3DFromRaw(1, 1, 1, 1, VTK_UNSIGNED_CHAR, &one);
+    internals.BlocksModel = -1; // the next skipping frame rebuilds
+  }
+  blocks->Activate();
+  uniforms->SetUniformi("avos_blocks", blocks->GetTextureUnit());
+  shaderProperty->AddFragmentShaderReplacement(
+    "uniform int avos_blocks;", false, "uniform sampler3D avos_blocks;", false);
 
   // The rays (see avos_setUpRay): in double, the near- and far-plane points'
   // coefficients in NDC x, y, then the point on the plane through the
@@ -384,6 +455,14 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   uniforms->SetUniformMatrix3x3("avos_gridToVoxelLo", gridToVoxel[1]);
 
   this->Superclass::GPURender(ren, vol);
+  blocks->Deactivate();
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::ReleaseGraphicsResources(vtkWindow* window)
+{
+  this->Internals->Blocks->ReleaseGraphicsResources(window);
+  this->Superclass::ReleaseGraphicsResources(window);
 }
 
 //------------------------------------------------------------------------------
@@ -400,5 +479,6 @@ void vtkOpenGLAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RiemannStep: " << this->RiemannStep << "\n";
   os << indent << "EarlyTermination: " << this->EarlyTermination << "\n";
   os << indent << "ImageQuantity: " << this->ImageQuantity << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "DoublePrecisionRays: " << this->DoublePrecisionRays << "\n";
 }

@@ -32,6 +32,17 @@
  * dual depth peeling of volumes, invalid tolerances or steps, transfer
  * functions with more pieces than the GPU's uniform storage holds.
  *
+ * Empty space is skipped exactly: blocks of 4^3 cells whose value range
+ * the transfer function maps to zero opacity are left out of every ray (a
+ * 3D texture of the blocks' visibility, rebuilt when the data or the
+ * property changes), as vtkAdaptiveVolumeMapper does.
+ *
+ * A ray that cannot be integrated (beyond the adaptive loop's bound of
+ * attempts, or cut short by the OpenGL implementation: Mesa's llvmpipe ends
+ * a shader's loops after 65535 iterations per group of fragments, which an
+ * in-shader check detects) is drawn opaque magenta and reads -1 in the
+ * validation image's alpha, never shown as a value.
+ *
  * The mapper adds its shader replacements and custom uniforms to the
  * volume's vtkOpenGLShaderProperty: a vtkVolume rendered by this mapper
  * should not be shared with another GPU mapper.
@@ -130,6 +141,19 @@ public:
   vtkBooleanMacro(EarlyTermination, vtkTypeBool);
   ///@}
 
+  ///@{
+  /**
+   * Skip the blocks of 4^3 cells whose value range the transfer function
+   * maps to zero opacity (default on): exact, since the trilinear field stays
+   * inside a block's range. The ranges are rebuilt when the scalars change,
+   * the blocks' visibility when the property, the opacity model or the voxel
+   * size does.
+   */
+  vtkSetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkGetMacro(EmptySpaceSkipping, vtkTypeBool);
+  vtkBooleanMacro(EmptySpaceSkipping, vtkTypeBool);
+  ///@}
+
   enum ImageQuantities
   {
     DEPTH = 0, // VTK's own depth image
@@ -167,6 +191,11 @@ public:
    */
   std::string CheckRenderable(vtkRenderer* ren, vtkVolumeProperty* property);
 
+  /**
+   * Releases the blocks' texture with the superclass's resources.
+   */
+  void ReleaseGraphicsResources(vtkWindow* window) override;
+
 protected:
   vtkOpenGLAdaptiveVolumeMapper();
   ~vtkOpenGLAdaptiveVolumeMapper() override;
@@ -182,6 +211,7 @@ protected:
   double RiemannStep = 0.5;
   vtkTypeBool EarlyTermination = 1;
   int ImageQuantity = DEPTH;
+  vtkTypeBool EmptySpaceSkipping = 1;
   vtkTypeBool DoublePrecisionRays = 0;
 
 private:

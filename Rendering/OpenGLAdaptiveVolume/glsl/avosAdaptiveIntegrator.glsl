@@ -201,20 +201,121 @@ avos_Sample avos_sample(float t)
   return s;
 }
 
-// The core's IntegrateRiemann (exponential form), samples at min(i h, D).
+// ------------------------------------------------------ empty-space skipping
+// avos_blocks holds the visibility of numerics::EmptySpaceMap's blocks
+// (avos_blockSize^3 cells each, their faces' grid points included): 0 where
+// the transfer function maps the block's whole value range to tau = 0. The
+// trilinear field inside a block stays within that range, so such a block
+// adds nothing to any ray, exactly, and the integrators see only the visible
+// parts of [0, D], found as EmptySpaceMap::Segments finds them: Amanatides
+// and Woo's walk over the blocks (at most Bx + By + Bz + 1 of them), each
+// visible block's part widened by avos_segmentPad against rounding, parts
+// that meet merged. With avos_skipping 0 the one part is [0, D].
+struct avos_Walk
+{
+  ivec3 Block;
+  ivec3 Step;
+  avos_real3 Next;  // t where the walk leaves the block along each axis
+  avos_real3 Delta; // t across one block along each axis
+  avos_real T;      // t where the walk enters the current block
+  int Left;         // blocks the walk may still visit
+  bool Done;
+};
+
+avos_Walk avos_startWalk(float D)
+{
+  avos_Walk w;
+  ivec3 blocks = textureSize(avos_blocks, 0);
+  avos_real size = avos_real(avos_blockSize);
+  for (int a = 0; a < 3; ++a)
+  {
+    avos_real d = avos_rayDirection[a];
+    w.Block[a] = clamp(int(floor(avos_rayOrigin[a] / size)), 0, blocks[a] - 1);
+    w.Step[a] = d > avos_real(0.0) ? 1 : (d < avos_real(0.0) ? -1 : 0);
+    w.Delta[a] = w.Step[a] != 0 ? size / abs(d) : avos_real(3.0e38);
+    w.Next[a] = w.Step[a] > 0 ? (avos_real(w.Block[a] + 1) * size - avos_rayOrigin[a]) / d
+      : (w.Step[a] < 0 ? (avos_real(w.Block[a]) * size - avos_rayOrigin[a]) / d
+                       : avos_real(3.0e38));
+  }
+  w.T = avos_real(0.0);
+  w.Left = avos_skipping != 0 ? blocks.x + blocks.y + blocks.z + 1 : 0;
+  w.Done = !(D > 0.0);
+  return w;
+}
+
+// The next visible part [begin, end] of [0, D] along the walk; false when
+// there is none left.
+bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end)
+{
+  begin = 0.0;
+  end = 0.0;
+  if (avos_skipping == 0)
+  {
+    bool first = !w.Done;
+    w.Done = true;
+    end = D;
+    return first;
+  }
+  bool open = false;
+  avos_real pad = avos_real(avos_segmentPad);
+  while (!w.Done && w.Left > 0)
+  {
+    int axis = w.Next.x <= w.Next.y ? (w.Next.x <= w.Next.z ? 0 : 2) : (w.Next.y <= w.Next.z ? 1 : 2);
+    avos_real exit = min(w.Next[axis], avos_real(D));
+    if (exit >= w.T && texelFetch(avos_blocks, w.Block, 0).r > 0.0)
+    {
+      float b = float(max(w.T - pad, avos_real(0.0)));
+      float e = float(min(exit + pad, avos_real(D)));
+      if (open && b > end)
+      {
+        return true; // a gap: this block opens the next part
+      }
+      begin = open ? begin : b;
+      end = open ? max(end, e) : e;
+      open = true;
+    }
+    --w.Left;
+    w.Block[axis] += w.Step[axis];
+    w.T = max(w.T, exit);
+    w.Next[axis] += w.Delta[axis];
+    w.Done = w.Step[axis] == 0 || w.Block[axis] < 0 || w.Block[axis] >= textureSize(avos_blocks, 0)[axis] ||
+      w.T >= avos_real(D);
+  }
+  return open;
+}
+
+// The core's IntegrateRiemann (exponential form) over the visible parts:
+// samples at min(i h, D) that lie inside them.
 vec4 avos_riemann(float D, float h, float bound)
 {
   vec3 colour = vec3(0.0);
   float T = 1.0;
   int n = int(ceil(D / h));
-  for (int i = 1; i <= n; ++i)
+  int next = 1; // the first sample index not yet taken
+  avos_Walk walk = avos_startWalk(D);
+  bool inside = false; // a part has been taken
+  float begin;
+  float end;
+  // One loop (see avos_adaptive): each pass takes a sample or the next part.
+  while (next <= n)
   {
-    float t1 = i == n ? D : min(float(i) * h, D);
-    float dt = t1 - float(i - 1) * h;
+    float t1 = next == n ? D : min(float(next) * h, D);
+    if (!inside || t1 > end)
+    {
+      if (!avos_nextSegment(walk, D, begin, end))
+      {
+        break;
+      }
+      inside = true;
+      next = max(max(next, int(ceil(begin / h))), 1);
+      continue;
+    }
+    float dt = t1 - float(next - 1) * h;
     avos_Sample s = avos_sample(t1);
     float a = avos_oneMinusExp(s.Tau * dt);
     colour += T * a * s.Colour;
     T *= 1.0 - a;
+    ++next;
     if (T <= bound)
     {
       break;
@@ -373,20 +474,38 @@ void avos_failed(inout avos_StepControl c)
 
 int avos_attempts; // accepted and rejected steps of this ray
 
-// The paper's Algorithm 3 over [0, D] (IntegrateAdaptive with one segment):
-// the inner integral finds a step over which the optical depth is within its
-// share of eps; the outer one covers that step for RGB, from the inner step
-// (coupled) or its own (decoupled). Returns RGBA, alpha < 0 when the ray
-// needed more than MaximumAttempts(D) attempts (impossible by the argument
-// in RayIntegrators.h; kept as a guard that reports instead of hanging).
+// The paper's Algorithm 3 over the visible parts of [0, D] (IntegrateAdaptive
+// over segments): the inner integral finds a step over which the optical
+// depth is within its share of eps; the outer one covers that step for RGB,
+// from the inner step (coupled) or its own (decoupled). The tolerance per
+// unit length is spread over the parts' total length L and the steps carry
+// over from one part to the next. Returns RGBA, alpha < 0 when the ray
+// needed more than MaximumAttempts attempts (impossible by the argument in
+// RayIntegrators.h; kept as a guard that reports instead of hanging).
 vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
 {
-  float hmin = max(avos_steps.y, 8.0 * 1.1920929e-7 * D);
+  float L = 0.0;
+  float lastEnd = 0.0;
+  int parts = 0;
+  float begin;
+  float end;
+  avos_Walk walk = avos_startWalk(D);
+  while (avos_nextSegment(walk, D, begin, end))
+  {
+    L += end - begin;
+    lastEnd = end;
+    ++parts;
+  }
+  if (!(L > 0.0))
+  {
+    return vec4(0.0);
+  }
+  float hmin = max(avos_steps.y, 8.0 * 1.1920929e-7 * lastEnd);
   float hmax = max(avos_steps.z, hmin);
-  float tolerance = 0.4 * avos_tolerance / D; // per unit length, inner and outer
+  float tolerance = 0.4 * avos_tolerance / L; // per unit length, inner and outer
   float maximumAttempts =
-    3.0 * (ceil(D / hmin) + 1.0) * (ceil(log2(avos_steps.z / hmin)) + 2.0);
-  float h0 = min(max(min(avos_steps.x, D), hmin), hmax);
+    3.0 * (ceil(L / hmin) + 1.0 + float(parts)) * (ceil(log2(avos_steps.z / hmin)) + 2.0);
+  float h0 = min(max(min(avos_steps.x, L), hmin), hmax);
   avos_StepControl inner = avos_StepControl(h0, hmin, hmax, true);
   avos_StepControl outer = avos_StepControl(h0, hmin, hmax, true);
 
@@ -394,118 +513,138 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
   avos_Bracket bout;
   vec3 colour = vec3(0.0);
   float theta = 0.0;
+  // One loop over the steps of all parts, the next part taken where one
+  // ends: SIMD lanes (llvmpipe, GPU warps) then iterate as long as their
+  // longest ray, not as long as the sum of each part's longest one.
+  walk = avos_startWalk(D);
+  int part = 0; // parts begun
   float t = 0.0;
-  bin.S[0] = avos_sample(t);
-  while (t < D)
+  float last = 0.0;
+  for (;;)
   {
-    // Inner integral: the first acceptable step from t.
-    float T = exp(-theta);
-    float remaining = D - t;
-    avos_fill(bin, t, min(inner.H, remaining));
-    vec2 innerPair;
-    bool innerForced = false;
-    for (;;)
+    if (!(t < last))
     {
-      innerPair = avos_inner(bin);
-      float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
-      if (error <= tolerance * bin.K)
+      float first;
+      if (part == parts || !avos_nextSegment(walk, D, first, last))
       {
         break;
       }
-      if (bin.K <= inner.Min)
-      {
-        innerForced = true;
-        break;
-      }
-      ++avos_attempts;
-      avos_failed(inner);
-      avos_halve(bin);
+      ++part;
+      t = first;
+      bin.S[0] = avos_sample(t);
+      continue;
     }
-    float h = bin.K;
-    float tEnd = bin.K == remaining ? D : t + h;
-    ++avos_attempts;
-    float innerValue = max(avos_corrected(innerPair), 0.0);
-    if (innerForced)
     {
-      float thetaEnd = theta;
-      avos_stable(bin, thetaEnd, colour);
-      innerValue = thetaEnd - theta;
-    }
-    else if (!avos_allTransparent(bin))
-    {
-      // Outer integral over [t, tEnd].
-      if (coupled)
+      // Inner integral: the first acceptable step from t.
+      float T = exp(-theta);
+      float remaining = last - t;
+      avos_fill(bin, t, min(inner.H, remaining));
+      vec2 innerPair;
+      bool innerForced = false;
+      for (;;)
       {
-        outer.H = h;
-        outer.LastSucceeded = true;
-      }
-      float u = t;
-      float thetaU = theta;
-      bout.S[0] = bin.S[0];
-      while (u < tEnd)
-      {
-        float k = min(outer.H, tEnd - u);
-        if (u == t && k == h)
+        innerPair = avos_inner(bin);
+        float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
+        if (error <= tolerance * bin.K)
         {
-          bout = bin; // the inner step's samples, exactly
+          break;
         }
-        else
+        if (bin.K <= inner.Min)
         {
-          avos_fill(bout, u, k);
+          innerForced = true;
+          break;
         }
-        vec3 whole;
-        vec3 halves;
-        bool outerForced = false;
-        for (;;)
-        {
-          avos_outer(bout, thetaU, whole, halves);
-          vec3 e = abs(halves - whole) / 15.0;
-          float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
-          if (error <= tolerance * bout.K)
-          {
-            break;
-          }
-          if (bout.K <= outer.Min)
-          {
-            outerForced = true;
-            break;
-          }
-          ++avos_attempts;
-          avos_failed(outer);
-          avos_halve(bout);
-        }
-        if (outerForced)
-        {
-          avos_stable(bout, thetaU, colour);
-        }
-        else
-        {
-          colour += halves + (halves - whole) / 15.0;
-          thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
-        }
-        float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
         ++avos_attempts;
-        avos_succeeded(outer);
-        u = uEnd;
-        bout.S[0] = bout.S[4];
-        if (float(avos_attempts) > maximumAttempts)
+        avos_failed(inner);
+        avos_halve(bin);
+      }
+      float h = bin.K;
+      float tEnd = bin.K == remaining ? last : t + h;
+      ++avos_attempts;
+      float innerValue = max(avos_corrected(innerPair), 0.0);
+      if (innerForced)
+      {
+        float thetaEnd = theta;
+        avos_stable(bin, thetaEnd, colour);
+        innerValue = thetaEnd - theta;
+      }
+      else if (!avos_allTransparent(bin))
+      {
+        // Outer integral over [t, tEnd].
+        if (coupled)
         {
-          return vec4(0.0, 0.0, 0.0, -1.0);
+          outer.H = h;
+          outer.LastSucceeded = true;
+        }
+        float u = t;
+        float thetaU = theta;
+        bout.S[0] = bin.S[0];
+        while (u < tEnd)
+        {
+          float k = min(outer.H, tEnd - u);
+          if (u == t && k == h)
+          {
+            bout = bin; // the inner step's samples, exactly
+          }
+          else
+          {
+            avos_fill(bout, u, k);
+          }
+          vec3 whole;
+          vec3 halves;
+          bool outerForced = false;
+          for (;;)
+          {
+            avos_outer(bout, thetaU, whole, halves);
+            vec3 e = abs(halves - whole) / 15.0;
+            float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
+            if (error <= tolerance * bout.K)
+            {
+              break;
+            }
+            if (bout.K <= outer.Min)
+            {
+              outerForced = true;
+              break;
+            }
+            ++avos_attempts;
+            avos_failed(outer);
+            avos_halve(bout);
+          }
+          if (outerForced)
+          {
+            avos_stable(bout, thetaU, colour);
+          }
+          else
+          {
+            colour += halves + (halves - whole) / 15.0;
+            thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
+          }
+          float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
+          ++avos_attempts;
+          avos_succeeded(outer);
+          u = uEnd;
+          bout.S[0] = bout.S[4];
+          if (float(avos_attempts) > maximumAttempts)
+          {
+            return vec4(0.0, 0.0, 0.0, -1.0);
+          }
         }
       }
-    }
 
-    theta += innerValue;
-    t = tEnd;
-    bin.S[0] = bin.S[4];
-    avos_succeeded(inner);
-    if (float(avos_attempts) > maximumAttempts)
-    {
-      return vec4(0.0, 0.0, 0.0, -1.0);
-    }
-    if (avos_earlyTermination != 0 && t < D && theta >= terminationDepth)
-    {
-      break;
+      theta += innerValue;
+      t = tEnd;
+      bin.S[0] = bin.S[4];
+      avos_succeeded(inner);
+      if (float(avos_attempts) > maximumAttempts)
+      {
+        return vec4(0.0, 0.0, 0.0, -1.0);
+      }
+      if (avos_earlyTermination != 0 && (t < last || part < parts) &&
+        theta >= terminationDepth)
+      {
+        break;
+      }
     }
   }
   // Each channel lies in [0, 1 - T]: clamping only brings it closer.
@@ -615,6 +754,22 @@ void avos_castRay()
   else
   {
     avos_result = avos_adaptive(avos_rayLength, avos_method == 1, -log(budget));
+  }
+  // Mesa's llvmpipe ends the loops of a shader invocation, silently, once
+  // they have run 65535 iterations in all (gallivm's loop limiter, counted
+  // per group of SIMD lanes; an exhausted limiter still lets a loop run
+  // once). A loop that must run twice (avos_two is 2) and did not means this
+  // ray was cut short: it is reported as failed (alpha -1), as a ray beyond
+  // MaximumAttempts is, never shown as a value.
+  int trips = 0;
+  for (int i = 0; i < avos_two; ++i)
+  {
+    ++trips;
+  }
+  bool complete = trips == 2;
+  if (!complete)
+  {
+    avos_result = vec4(0.0, 0.0, 0.0, -1.0);
   }
 }
 
