@@ -352,13 +352,22 @@ std::vector<float> RenderSession::Image() const
         }
       }
     }
+    std::size_t failed = 0;
     for (std::size_t i = 0; i < pixels; ++i)
     {
       const bool fragment = !(values[4 * pixels + i] == 1.0f && values[5 * pixels + i] == 1.0f);
+      failed += fragment && values[3 * pixels + i] < 0.0f ? 1 : 0;
       for (int c = 0; c < 4 && fragment; ++c)
       {
         rgba[4 * i + c] = values[c * pixels + i];
       }
+    }
+    if (failed > 0)
+    {
+      // Alpha -1: rays the shader could not finish (drawn magenta on screen).
+      std::cerr << "warning: " << failed
+                << " ray(s) could not be integrated on this OpenGL device (alpha -1 in the "
+                   "image; llvmpipe ends a fragment's loops after 65535 iterations)\n";
     }
     gpu->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::DEPTH);
     gpu->SetRenderToImage(0);
