@@ -140,3 +140,40 @@ TEST(TransferFunction, PlainSearchesSeeKnotsAndJumps)
   EXPECT_FALSE(tf.HasKnotIn(0.26, 0.49));
   EXPECT_FALSE(tf.HasJumpIn(0.2, 0.3));
 }
+
+// Cast<float>() keeps the knots, the model and finalization: tau and C of the
+// float copy equal the double ones to float's rounding of their arguments
+// (relative 1e-6, which would fail for any knot or model lost on the way).
+TEST(TransferFunction, CastToFloatKeepsKnotsAndModel)
+{
+  for (OpacityModel model : { OpacityModel::Extinction, OpacityModel::Alpha })
+  {
+    TransferFunction<double> tf;
+    tf.AddOpacityKnot(10.0, 0.0);
+    tf.AddOpacityKnot(40.0, 0.3);
+    tf.AddOpacityKnot(40.0, 0.6); // a jump
+    tf.AddOpacityKnot(90.0, 0.9);
+    tf.AddColorKnot(10.0, 0.1, 0.2, 0.3);
+    tf.AddColorKnot(60.0, 0.9, 0.5, 0.1);
+    tf.SetOpacityModel(model, 0.5);
+    tf.Finalize();
+    const TransferFunction<float> f = tf.Cast<float>();
+    ASSERT_EQ(f.GetOpacityModel(), model);
+    ASSERT_EQ(f.GetUnitDistance(), 0.5f);
+    ASSERT_EQ(f.GetKnotValues().size(), tf.GetKnotValues().size());
+    for (double s = 0.0; s <= 100.0; s += 0.37)
+    {
+      double tau;
+      TransferFunction<double>::Color c;
+      tf.Classify(s, tau, c);
+      float tauF;
+      TransferFunction<float>::Color cF;
+      f.Classify(static_cast<float>(s), tauF, cF);
+      ASSERT_NEAR(tauF, tau, 1e-6 * std::max(1.0, tau)) << s;
+      for (int k = 0; k < 3; ++k)
+      {
+        ASSERT_NEAR(cF[k], c[k], 1e-6) << s;
+      }
+    }
+  }
+}

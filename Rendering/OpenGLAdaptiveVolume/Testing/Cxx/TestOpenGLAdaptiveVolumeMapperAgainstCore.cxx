@@ -11,18 +11,15 @@
 // precision rays (GL_ARB_gpu_shader_fp64; measured 2.6e-5 on all scenes, the
 // float rounding of the written values), else within 5e-4 (float positions
 // of the volume's size, which a grazing entry face magnifies: 3.2e-4 on
-// BluntFin). The 99th percentile is <= 1e-5 on the analytic Marschner-Lobb
-// volume (float data, a transfer function with kinks, a jump and a spike,
-// both opacity models) and on BluntFin (8-bit, paper transfer function;
-// skipped without the shared data). On Bonsai (its paper transfer function
-// in VTK's opacity model) it reaches 3.4e-5 (bound 4e-5): at eps 1e-4, 70 of
-// the 71 rays more than 1e-5 off took a different number of samples than the
-// core, i.e. float and double accepted different steps, and each result is
-// within the tolerance of the integral (2.2e-5 with empty-space skipping).
-// Not located further: perturbing the core's scalars by float's relative
-// rounding (1.2e-7) moves its own 99th percentile by 5e-8 only, and summing
-// the shader's integrals and error estimates in double (tried) left it as it
-// was, so neither the positions nor the sums decide it.
+// BluntFin). The 99th percentile is <= 1e-5, or within 1.5 times what the
+// same core compiled in float reaches on the same rays (the GPU version is
+// that code in GLSL; single precision decides some of a ray's steps
+// otherwise than double, each result within the tolerance): on Bonsai at
+// eps 1e-4 the float core's 99th percentile is 3.3e-5 and the shader's
+// 3.4e-5, elsewhere both stay near or below 1e-5 (the shader's is at most
+// the float core's but for rounding). Neither the positions (double rays)
+// nor the sums (summing the shader's integrals and error estimates in double
+// was tried: no change) decide it, but float evaluation as a whole.
 // Each scene is compared twice: without empty-space skipping (the core on the
 // whole ray) and with it (the core on the parts numerics::EmptySpaceMap gives
 // for the same blocks and pad). Early termination is checked against its
@@ -155,6 +152,8 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
   const auto* values =
     static_cast<const Storage*>(data->GetPointData()->GetScalars()->GetVoidPointer(0));
   an::TrilinearVolume<double, Storage> field(values, dims);
+  const an::TrilinearVolume<float, Storage> floatField(values, dims);
+  const an::TransferFunction<float> floatTF = tf.Cast<float>();
   double range[2];
   data->GetPointData()->GetScalars()->GetRange(range);
 
@@ -272,7 +271,12 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
         : an::Strategy::Decoupled;
       adaptive.FieldMinimum = range[0];
       adaptive.FieldMaximum = range[1];
-      std::vector<double> differences[4];
+      an::AdaptiveSettings<float> floatAdaptive;
+      floatAdaptive.Tolerance = float(s.Tolerance);
+      floatAdaptive.Coupling = adaptive.Coupling;
+      floatAdaptive.FieldMinimum = float(range[0]);
+      floatAdaptive.FieldMaximum = float(range[1]);
+      std::vector<double> differences[4], floatDifferences[4];
       bool failed = false;
       double worst[4] = { 0, 0, 0, 0 };
       for (int i = 0; i < Size * Size; ++i)
@@ -292,6 +296,21 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
         else if (!segments[i].empty())
         {
           r = an::IntegrateAdaptive(f, tf, segments[i].data(), segments[i].size(), adaptive);
+          // The same core in float on the same rays: what single precision
+          // can reach.
+          const glm::vec3 o(rayOrigin[i]), d(rayDirection[i]);
+          std::vector<an::Interval<float>> parts;
+          for (const auto& part : segments[i])
+          {
+            parts.push_back({ float(part.Begin), float(part.End) });
+          }
+          const an::RayResult<float> rf =
+            an::IntegrateAdaptive([&](float t) { return floatField(o + t * d); }, floatTF,
+              parts.data(), parts.size(), floatAdaptive);
+          for (int q = 0; q < 4; ++q)
+          {
+            floatDifferences[q].push_back(std::abs(double(rf.RGBA[q]) - r.RGBA[q]));
+          }
         }
         for (int q = 0; q < 4; ++q)
         {
@@ -304,9 +323,10 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
       for (int q = 0; q < 4; ++q)
       {
         const double p99 = Percentile(differences[q], 0.99);
-        std::printf("  %c max %.1e p99 %.1e", "RGBA"[q], worst[q], p99);
+        const double floatP99 = Percentile(floatDifferences[q], 0.99);
+        std::printf("  %c max %.1e p99 %.1e (float core %.1e)", "RGBA"[q], worst[q], p99, floatP99);
         const double bound = s.Tolerance < 1e-3 ? 2.0 * s.Tolerance : s.Tolerance;
-        if (!(worst[q] <= bound) || !(p99 <= c.PercentileBound))
+        if (!(worst[q] <= bound) || !(p99 <= std::max(c.PercentileBound, 1.5 * floatP99)))
         {
           failed = true;
         }
@@ -492,7 +512,7 @@ int TestOpenGLAdaptiveVolumeMapperAgainstCore(int argc, char* argv[])
     vtkNew<vtkVolumeProperty> property;
     property->SetInterpolationTypeToLinear();
     ok &= tf->FillVolumeProperty(property);
-    ok &= Run({ "BluntFin", reader, property, 1, 20.0, 30.0, 1e-4, 1e-5 });
+    ok &= Run({ "BluntFin", reader, property, 1, 20.0, 30.0 });
   }
   {
     vtkNew<vtkXMLImageDataReader> reader;
@@ -503,7 +523,7 @@ int TestOpenGLAdaptiveVolumeMapperAgainstCore(int argc, char* argv[])
     vtkNew<vtkVolumeProperty> property;
     property->SetInterpolationTypeToLinear();
     ok &= tf->FillVolumeProperty(property);
-    ok &= Run({ "Bonsai, VTK opacity", reader, property, 0, 37.0, 23.0, 1e-4, 4e-5 });
+    ok &= Run({ "Bonsai, VTK opacity", reader, property, 0, 37.0, 23.0 });
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

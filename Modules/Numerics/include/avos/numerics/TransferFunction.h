@@ -350,6 +350,29 @@ public:
     return next < starts.size() && starts[next] < hi;
   }
 
+  // The same knots and model in another precision, finalized if this one is:
+  // what a single-precision integrator (the GLSL version) classifies with.
+  template <typename Other>
+  TransferFunction<Other> Cast() const
+  {
+    TransferFunction<Other> out;
+    for (std::size_t i = 0; i < this->ColorValues.size(); ++i)
+    {
+      const Color& c = this->Colors[i];
+      out.AddColorKnot(Other(this->ColorValues[i]), Other(c.r), Other(c.g), Other(c.b));
+    }
+    for (std::size_t i = 0; i < this->OpacityValues.size(); ++i)
+    {
+      out.AddOpacityKnot(Other(this->OpacityValues[i]), Other(this->Opacities[i]));
+    }
+    out.SetOpacityModel(this->Model, Other(this->UnitDistance));
+    if (!this->Pieces.empty())
+    {
+      out.Finalize();
+    }
+    return out;
+  }
+
   // Sorted scalar values where C or tau has a kink or a jump.
   std::vector<Real> GetKnotValues() const
   {
