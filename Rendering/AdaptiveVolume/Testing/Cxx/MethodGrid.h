@@ -5,13 +5,17 @@
 #ifndef MethodGrid_h
 #define MethodGrid_h
 
+#include "vtkActor.h"
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkConeSource.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
@@ -51,6 +55,23 @@ inline void MakeShell(vtkAnalyticVolumeSource* source, vtkVolumeProperty* proper
   property->SetScalarOpacity(opacity);
   property->SetInterpolationTypeToLinear();
   property->SetScalarOpacityUnitDistance(0.05);
+}
+
+// An opaque red cone piercing the shell: where it is in front the volume must
+// be hidden, behind it drawn (depth-buffer compositing).
+inline vtkSmartPointer<vtkActor> MakeCone()
+{
+  vtkNew<vtkConeSource> cone;
+  cone->SetResolution(24);
+  cone->SetHeight(3.6);
+  cone->SetRadius(0.3);
+  cone->SetDirection(1.0, 0.6, -0.4);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(cone->GetOutputPort());
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetColor(0.9, 0.2, 0.2);
+  return actor;
 }
 
 // Fills `window` (sized by the caller) with the four viewports. `decorate`

@@ -9,51 +9,18 @@
 // one 8-bit step.
 #include "vtkOpenGLAdaptiveVolumeMapper.h"
 
-#include "vtkActor.h"
-#include "vtkAnalyticVolumeSource.h"
-#include "vtkCamera.h"
-#include "vtkColorTransferFunction.h"
-#include "vtkConeSource.h"
-#include "vtkNew.h"
-#include "vtkPiecewiseFunction.h"
-#include "vtkPolyDataMapper.h"
-#include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkVolume.h"
-#include "vtkVolumeProperty.h"
 
+#include "MethodGrid.h"
 #include "avosImageTest.h"
 
 int TestOpenGLAdaptiveVolumeMapperImage(int argc, char* argv[])
 {
   vtkNew<vtkAnalyticVolumeSource> source;
-  source->SetFunctionToSphereDistance();
-  source->SetDimensions(40, 40, 40);
-  source->SetScalarScale(100.0); // distance 0..1.73 -> scalars 0..173
-  vtkNew<vtkColorTransferFunction> colour;
-  colour->AddRGBPoint(0.0, 1.0, 0.9, 0.3);
-  colour->AddRGBPoint(50.0, 0.9, 0.3, 0.1);
-  colour->AddRGBPoint(80.0, 0.2, 0.4, 1.0);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0.0, 0.8);
-  opacity->AddPoint(30.0, 0.0);
-  opacity->AddPoint(70.0, 0.0);
-  opacity->AddPoint(80.0, 0.3);
-  opacity->AddPoint(95.0, 0.0);
   vtkNew<vtkVolumeProperty> property;
-  property->SetColor(colour);
-  property->SetScalarOpacity(opacity);
-  property->SetInterpolationTypeToLinear();
-  property->SetScalarOpacityUnitDistance(0.05);
-
-  vtkNew<vtkConeSource> cone;
-  cone->SetResolution(24);
-  cone->SetHeight(3.6);
-  cone->SetRadius(0.3);
-  cone->SetDirection(1.0, 0.6, -0.4);
-  vtkNew<vtkPolyDataMapper> coneMapper;
-  coneMapper->SetInputConnection(cone->GetOutputPort());
+  methodgrid::MakeShell(source, property); // the CPU mapper's image tests' volume
 
   vtkNew<vtkRenderWindow> window;
   window->SetSize(450, 150);
@@ -72,13 +39,10 @@ int TestOpenGLAdaptiveVolumeMapperImage(int argc, char* argv[])
     vtkNew<vtkVolume> volume; // one per mapper: the shader replacements live on it
     volume->SetMapper(mapper);
     volume->SetProperty(property);
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(coneMapper);
-    actor->GetProperty()->SetColor(0.9, 0.2, 0.2);
     vtkNew<vtkRenderer> renderer;
     renderer->SetViewport(i / 3.0, 0.0, (i + 1) / 3.0, 1.0);
     renderer->AddVolume(volume);
-    renderer->AddActor(actor);
+    renderer->AddActor(methodgrid::MakeCone());
     window->AddRenderer(renderer);
     renderer->ResetCamera();
     renderer->GetActiveCamera()->Azimuth(30.0);
