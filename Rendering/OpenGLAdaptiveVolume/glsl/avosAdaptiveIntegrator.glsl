@@ -534,117 +534,115 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
       bin.S[0] = avos_sample(t);
       continue;
     }
+    // Inner integral: the first acceptable step from t.
+    float T = exp(-theta);
+    float remaining = last - t;
+    avos_fill(bin, t, min(inner.H, remaining));
+    vec2 innerPair;
+    bool innerForced = false;
+    for (;;)
     {
-      // Inner integral: the first acceptable step from t.
-      float T = exp(-theta);
-      float remaining = last - t;
-      avos_fill(bin, t, min(inner.H, remaining));
-      vec2 innerPair;
-      bool innerForced = false;
-      for (;;)
-      {
-        innerPair = avos_inner(bin);
-        float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
-        if (error <= tolerance * bin.K)
-        {
-          break;
-        }
-        if (bin.K <= inner.Min)
-        {
-          innerForced = true;
-          break;
-        }
-        ++avos_attempts;
-        avos_failed(inner);
-        avos_halve(bin);
-      }
-      float h = bin.K;
-      float tEnd = bin.K == remaining ? last : t + h;
-      ++avos_attempts;
-      float innerValue = max(avos_corrected(innerPair), 0.0);
-      if (innerForced)
-      {
-        float thetaEnd = theta;
-        avos_stable(bin, thetaEnd, colour);
-        innerValue = thetaEnd - theta;
-      }
-      else if (!avos_allTransparent(bin))
-      {
-        // Outer integral over [t, tEnd].
-        if (coupled)
-        {
-          outer.H = h;
-          outer.LastSucceeded = true;
-        }
-        float u = t;
-        float thetaU = theta;
-        bout.S[0] = bin.S[0];
-        while (u < tEnd)
-        {
-          float k = min(outer.H, tEnd - u);
-          if (u == t && k == h)
-          {
-            bout = bin; // the inner step's samples, exactly
-          }
-          else
-          {
-            avos_fill(bout, u, k);
-          }
-          vec3 whole;
-          vec3 halves;
-          bool outerForced = false;
-          for (;;)
-          {
-            avos_outer(bout, thetaU, whole, halves);
-            vec3 e = abs(halves - whole) / 15.0;
-            float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
-            if (error <= tolerance * bout.K)
-            {
-              break;
-            }
-            if (bout.K <= outer.Min)
-            {
-              outerForced = true;
-              break;
-            }
-            ++avos_attempts;
-            avos_failed(outer);
-            avos_halve(bout);
-          }
-          if (outerForced)
-          {
-            avos_stable(bout, thetaU, colour);
-          }
-          else
-          {
-            colour += halves + (halves - whole) / 15.0;
-            thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
-          }
-          float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
-          ++avos_attempts;
-          avos_succeeded(outer);
-          u = uEnd;
-          bout.S[0] = bout.S[4];
-          if (float(avos_attempts) > maximumAttempts)
-          {
-            return vec4(0.0, 0.0, 0.0, -1.0);
-          }
-        }
-      }
-
-      theta += innerValue;
-      t = tEnd;
-      bin.S[0] = bin.S[4];
-      avos_succeeded(inner);
-      if (float(avos_attempts) > maximumAttempts)
-      {
-        return vec4(0.0, 0.0, 0.0, -1.0);
-      }
-      if (avos_earlyTermination != 0 && (t < last || part < parts) &&
-        theta >= terminationDepth)
+      innerPair = avos_inner(bin);
+      float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
+      if (error <= tolerance * bin.K)
       {
         break;
       }
+      if (bin.K <= inner.Min)
+      {
+        innerForced = true;
+        break;
+      }
+      ++avos_attempts;
+      avos_failed(inner);
+      avos_halve(bin);
+    }
+    float h = bin.K;
+    float tEnd = bin.K == remaining ? last : t + h;
+    ++avos_attempts;
+    float innerValue = max(avos_corrected(innerPair), 0.0);
+    if (innerForced)
+    {
+      float thetaEnd = theta;
+      avos_stable(bin, thetaEnd, colour);
+      innerValue = thetaEnd - theta;
+    }
+    else if (!avos_allTransparent(bin))
+    {
+      // Outer integral over [t, tEnd].
+      if (coupled)
+      {
+        outer.H = h;
+        outer.LastSucceeded = true;
+      }
+      float u = t;
+      float thetaU = theta;
+      bout.S[0] = bin.S[0];
+      while (u < tEnd)
+      {
+        float k = min(outer.H, tEnd - u);
+        if (u == t && k == h)
+        {
+          bout = bin; // the inner step's samples, exactly
+        }
+        else
+        {
+          avos_fill(bout, u, k);
+        }
+        vec3 whole;
+        vec3 halves;
+        bool outerForced = false;
+        for (;;)
+        {
+          avos_outer(bout, thetaU, whole, halves);
+          vec3 e = abs(halves - whole) / 15.0;
+          float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
+          if (error <= tolerance * bout.K)
+          {
+            break;
+          }
+          if (bout.K <= outer.Min)
+          {
+            outerForced = true;
+            break;
+          }
+          ++avos_attempts;
+          avos_failed(outer);
+          avos_halve(bout);
+        }
+        if (outerForced)
+        {
+          avos_stable(bout, thetaU, colour);
+        }
+        else
+        {
+          colour += halves + (halves - whole) / 15.0;
+          thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
+        }
+        float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
+        ++avos_attempts;
+        avos_succeeded(outer);
+        u = uEnd;
+        bout.S[0] = bout.S[4];
+        if (float(avos_attempts) > maximumAttempts)
+        {
+          return vec4(0.0, 0.0, 0.0, -1.0);
+        }
+      }
+    }
+
+    theta += innerValue;
+    t = tEnd;
+    bin.S[0] = bin.S[4];
+    avos_succeeded(inner);
+    if (float(avos_attempts) > maximumAttempts)
+    {
+      return vec4(0.0, 0.0, 0.0, -1.0);
+    }
+    if (avos_earlyTermination != 0 && (t < last || part < parts) &&
+      theta >= terminationDepth)
+    {
+      break;
     }
   }
   // Each channel lies in [0, 1 - T]: clamping only brings it closer.
