@@ -260,7 +260,8 @@ bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end
   avos_real pad = avos_real(avos_segmentPad);
   while (!w.Done && w.Left > 0)
   {
-    int axis = w.Next.x <= w.Next.y ? (w.Next.x <= w.Next.z ? 0 : 2) : (w.Next.y <= w.Next.z ? 1 : 2);
+    int axis = w.Next.x <= w.Next.y ? (w.Next.x <= w.Next.z ? 0 : 2)
+                                    : (w.Next.y <= w.Next.z ? 1 : 2);
     avos_real exit = min(w.Next[axis], avos_real(D));
     if (exit >= w.T && texelFetch(avos_blocks, w.Block, 0).r > 0.0)
     {
@@ -278,8 +279,8 @@ bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end
     w.Block[axis] += w.Step[axis];
     w.T = max(w.T, exit);
     w.Next[axis] += w.Delta[axis];
-    w.Done = w.Step[axis] == 0 || w.Block[axis] < 0 || w.Block[axis] >= textureSize(avos_blocks, 0)[axis] ||
-      w.T >= avos_real(D);
+    w.Done = w.Step[axis] == 0 || w.Block[axis] < 0 ||
+      w.Block[axis] >= textureSize(avos_blocks, 0)[axis] || w.T >= avos_real(D);
   }
   return open;
 }
@@ -747,7 +748,8 @@ void avos_castRay()
   float budget = 0.2 * avos_tolerance / max(1.0, avos_maximumColour);
   if (avos_method == 0)
   {
-    avos_result = avos_riemann(avos_rayLength, avos_steps.w, avos_earlyTermination != 0 ? budget : 0.0);
+    float bound = avos_earlyTermination != 0 ? budget : 0.0;
+    avos_result = avos_riemann(avos_rayLength, avos_steps.w, bound);
   }
   else
   {
