@@ -20,11 +20,14 @@ float avos_texel(ivec3 p)
 }
 
 // Positions: where the GPU has double precision (GL_ARB_gpu_shader_fp64,
-// core since OpenGL 4.0), ray set-up and sample positions are computed in
-// double and only a cell's local coordinates in float, so a position errs by
-// about 1e-16 of the volume's size instead of float's 6e-8 (1.5e-5 voxel at
-// 256, which a grazing entry face magnifies into along-ray shifts of 3e-4).
-// Elsewhere in float, with those errors.
+// core since OpenGL 4.0), the ray set-up, the integration variable t (step
+// bounds, sample positions along the ray, the ray's length and its visible
+// parts) and the samples' grid positions are in double, and only a cell's
+// local coordinates, the samples' values and the sums in float. A float t
+// rounds each step's bounds by up to 1.5e-5 voxel at t = 256: the core in
+// float differs from the core in double by a 99th percentile of 3.3e-5 on
+// Bonsai at eps 1e-4, and this shader with a double t by 1.5e-6. Elsewhere
+// all in float, with those errors.
 #ifdef GL_ARB_gpu_shader_fp64
 #define avos_real double
 #define avos_real2 dvec2
@@ -192,11 +195,11 @@ struct avos_Sample
   vec3 Colour;
 };
 
-avos_Sample avos_sample(float t)
+avos_Sample avos_sample(avos_real t)
 {
   ++avos_samples;
   avos_Sample s;
-  s.Scalar = avos_field(avos_rayOrigin + avos_real(t) * avos_rayDirection);
+  s.Scalar = avos_field(avos_rayOrigin + t * avos_rayDirection);
   avos_classify(s.Scalar, s.Tau, s.Colour);
   return s;
 }
@@ -222,7 +225,7 @@ struct avos_Walk
   bool Done;
 };
 
-avos_Walk avos_startWalk(float D)
+avos_Walk avos_startWalk(avos_real D)
 {
   avos_Walk w;
   ivec3 blocks = textureSize(avos_blocks, 0);
@@ -239,16 +242,16 @@ avos_Walk avos_startWalk(float D)
   }
   w.T = avos_real(0.0);
   w.Left = avos_skipping != 0 ? blocks.x + blocks.y + blocks.z + 1 : 0;
-  w.Done = !(D > 0.0);
+  w.Done = !(D > avos_real(0.0));
   return w;
 }
 
 // The next visible part [begin, end] of [0, D] along the walk; false when
 // there is none left.
-bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end)
+bool avos_nextSegment(inout avos_Walk w, avos_real D, out avos_real begin, out avos_real end)
 {
-  begin = 0.0;
-  end = 0.0;
+  begin = avos_real(0.0);
+  end = avos_real(0.0);
   if (avos_skipping == 0)
   {
     bool first = !w.Done;
@@ -262,11 +265,11 @@ bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end
   {
     int axis = w.Next.x <= w.Next.y ? (w.Next.x <= w.Next.z ? 0 : 2)
                                     : (w.Next.y <= w.Next.z ? 1 : 2);
-    avos_real exit = min(w.Next[axis], avos_real(D));
+    avos_real exit = min(w.Next[axis], D);
     if (exit >= w.T && texelFetch(avos_blocks, w.Block, 0).r > 0.0)
     {
-      float b = float(max(w.T - pad, avos_real(0.0)));
-      float e = float(min(exit + pad, avos_real(D)));
+      avos_real b = max(w.T - pad, avos_real(0.0));
+      avos_real e = min(exit + pad, D);
       if (open && b > end)
       {
         return true; // a gap: this block opens the next part
@@ -280,27 +283,27 @@ bool avos_nextSegment(inout avos_Walk w, float D, out float begin, out float end
     w.T = max(w.T, exit);
     w.Next[axis] += w.Delta[axis];
     w.Done = w.Step[axis] == 0 || w.Block[axis] < 0 ||
-      w.Block[axis] >= textureSize(avos_blocks, 0)[axis] || w.T >= avos_real(D);
+      w.Block[axis] >= textureSize(avos_blocks, 0)[axis] || w.T >= D;
   }
   return open;
 }
 
 // The core's IntegrateRiemann (exponential form) over the visible parts:
 // samples at min(i h, D) that lie inside them.
-vec4 avos_riemann(float D, float h, float bound)
+vec4 avos_riemann(avos_real D, float h, float bound)
 {
   vec3 colour = vec3(0.0);
   float T = 1.0;
-  int n = int(ceil(D / h));
+  int n = int(ceil(D / avos_real(h)));
   int next = 1; // the first sample index not yet taken
   avos_Walk walk = avos_startWalk(D);
   bool inside = false; // a part has been taken
-  float begin;
-  float end;
+  avos_real begin;
+  avos_real end;
   // One loop (see avos_adaptive): each pass takes a sample or the next part.
   while (next <= n)
   {
-    float t1 = next == n ? D : min(float(next) * h, D);
+    avos_real t1 = next == n ? D : min(avos_real(next) * avos_real(h), D);
     if (!inside || t1 > end)
     {
       if (!avos_nextSegment(walk, D, begin, end))
@@ -308,10 +311,10 @@ vec4 avos_riemann(float D, float h, float bound)
         break;
       }
       inside = true;
-      next = max(max(next, int(ceil(begin / h))), 1);
+      next = max(max(next, int(ceil(begin / avos_real(h)))), 1);
       continue;
     }
-    float dt = t1 - float(next - 1) * h;
+    float dt = float(t1 - avos_real(next - 1) * avos_real(h));
     avos_Sample s = avos_sample(t1);
     float a = avos_oneMinusExp(s.Tau * dt);
     colour += T * a * s.Colour;
@@ -329,31 +332,31 @@ vec4 avos_riemann(float D, float h, float bound)
 // Five equidistant samples over [U, U + K] (the core's Bracket).
 struct avos_Bracket
 {
-  float U;
-  float K;
+  avos_real U;
+  avos_real K;
   float Scale; // EstimateScale's cached value, 0 when unknown
   avos_Sample S[5];
 };
 
-void avos_fill(inout avos_Bracket b, float u, float k)
+void avos_fill(inout avos_Bracket b, avos_real u, avos_real k)
 {
   b.U = u;
   b.K = k;
   b.Scale = 0.0;
   for (int i = 1; i < 5; ++i)
   {
-    b.S[i] = avos_sample(i == 4 ? u + k : u + 0.25 * float(i) * k);
+    b.S[i] = avos_sample(i == 4 ? u + k : u + avos_real(0.25 * float(i)) * k);
   }
 }
 
 void avos_halve(inout avos_Bracket b)
 {
-  b.K *= 0.5;
+  b.K *= avos_real(0.5);
   b.Scale = 0.0;
   b.S[4] = b.S[2];
   b.S[2] = b.S[1];
-  b.S[1] = avos_sample(b.U + 0.25 * b.K);
-  b.S[3] = avos_sample(b.U + 0.75 * b.K);
+  b.S[1] = avos_sample(b.U + avos_real(0.25) * b.K);
+  b.S[3] = avos_sample(b.U + avos_real(0.75) * b.K);
 }
 
 // Simpson's estimate assumes a smooth integrand: 15 across a jump of the
@@ -387,7 +390,7 @@ float avos_estimateScale(inout avos_Bracket b)
 // although its estimate fails (Bracket::Stable).
 void avos_stable(avos_Bracket b, inout float theta, inout vec3 colour)
 {
-  float dt = 0.25 * b.K;
+  float dt = float(0.25 * b.K);
   for (int i = 1; i < 5; ++i)
   {
     float tau = 0.5 * (b.S[i - 1].Tau + b.S[i].Tau);
@@ -412,7 +415,7 @@ bool avos_allTransparent(avos_Bracket b)
 // Simpson on the whole step (x) and on its halves (y) of the optical depth.
 vec2 avos_inner(avos_Bracket b)
 {
-  float k = b.K;
+  float k = float(b.K);
   return vec2(k / 6.0 * (b.S[0].Tau + 4.0 * b.S[2].Tau + b.S[4].Tau),
     k / 12.0 *
       (b.S[0].Tau + 4.0 * b.S[1].Tau + 2.0 * b.S[2].Tau + 4.0 * b.S[3].Tau + b.S[4].Tau));
@@ -427,7 +430,7 @@ float avos_corrected(vec2 pair)
 // from theta0 (Bracket::Outer).
 void avos_outer(avos_Bracket b, float theta0, out vec3 whole, out vec3 halves)
 {
-  float k = b.K;
+  float k = float(b.K);
   float t[5];
   for (int i = 0; i < 5; ++i)
   {
@@ -452,9 +455,9 @@ void avos_outer(avos_Bracket b, float theta0, out vec3 whole, out vec3 halves)
 // halve on failure, within [Min, Max].
 struct avos_StepControl
 {
-  float H;
-  float Min;
-  float Max;
+  avos_real H;
+  avos_real Min;
+  avos_real Max;
   bool LastSucceeded;
 };
 
@@ -462,14 +465,14 @@ void avos_succeeded(inout avos_StepControl c)
 {
   if (c.LastSucceeded)
   {
-    c.H = min(2.0 * c.H, c.Max);
+    c.H = min(avos_real(2.0) * c.H, c.Max);
   }
   c.LastSucceeded = true;
 }
 
 void avos_failed(inout avos_StepControl c)
 {
-  c.H = max(0.5 * c.H, c.Min);
+  c.H = max(avos_real(0.5) * c.H, c.Min);
   c.LastSucceeded = false;
 }
 
@@ -483,13 +486,13 @@ int avos_attempts; // accepted and rejected steps of this ray
 // over from one part to the next. Returns RGBA, alpha < 0 when the ray
 // needed more than MaximumAttempts attempts (impossible by the argument in
 // RayIntegrators.h; kept as a guard that reports instead of hanging).
-vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
+vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
 {
-  float L = 0.0;
-  float lastEnd = 0.0;
+  avos_real L = avos_real(0.0);
+  avos_real lastEnd = avos_real(0.0);
   int parts = 0;
-  float begin;
-  float end;
+  avos_real begin;
+  avos_real end;
   avos_Walk walk = avos_startWalk(D);
   while (avos_nextSegment(walk, D, begin, end))
   {
@@ -497,18 +500,18 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
     lastEnd = end;
     ++parts;
   }
-  if (!(L > 0.0))
+  if (!(L > avos_real(0.0)))
   {
     return vec4(0.0);
   }
-  float hmin = max(avos_steps.y, 8.0 * 1.1920929e-7 * lastEnd);
+  float hmin = max(avos_steps.y, 8.0 * 1.1920929e-7 * float(lastEnd));
   float hmax = max(avos_steps.z, hmin);
-  float tolerance = 0.4 * avos_tolerance / L; // per unit length, inner and outer
+  float tolerance = 0.4 * avos_tolerance / float(L); // per unit length, inner and outer
   float maximumAttempts =
-    3.0 * (ceil(L / hmin) + 1.0 + float(parts)) * (ceil(log2(avos_steps.z / hmin)) + 2.0);
-  float h0 = min(max(min(avos_steps.x, L), hmin), hmax);
-  avos_StepControl inner = avos_StepControl(h0, hmin, hmax, true);
-  avos_StepControl outer = avos_StepControl(h0, hmin, hmax, true);
+    3.0 * (ceil(float(L) / hmin) + 1.0 + float(parts)) * (ceil(log2(avos_steps.z / hmin)) + 2.0);
+  avos_real h0 = avos_real(min(max(min(avos_steps.x, float(L)), hmin), hmax));
+  avos_StepControl inner = avos_StepControl(h0, avos_real(hmin), avos_real(hmax), true);
+  avos_StepControl outer = avos_StepControl(h0, avos_real(hmin), avos_real(hmax), true);
 
   avos_Bracket bin;
   avos_Bracket bout;
@@ -519,13 +522,13 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
   // longest ray, not as long as the sum of each part's longest one.
   walk = avos_startWalk(D);
   int part = 0; // parts begun
-  float t = 0.0;
-  float last = 0.0;
+  avos_real t = avos_real(0.0);
+  avos_real last = avos_real(0.0);
   for (;;)
   {
     if (!(t < last))
     {
-      float first;
+      avos_real first;
       if (part == parts || !avos_nextSegment(walk, D, first, last))
       {
         break;
@@ -537,7 +540,7 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
     }
     // Inner integral: the first acceptable step from t.
     float T = exp(-theta);
-    float remaining = last - t;
+    avos_real remaining = last - t;
     avos_fill(bin, t, min(inner.H, remaining));
     vec2 innerPair;
     bool innerForced = false;
@@ -545,7 +548,7 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
     {
       innerPair = avos_inner(bin);
       float error = T * avos_estimateScale(bin) * abs(innerPair.y - innerPair.x) / 15.0;
-      if (error <= tolerance * bin.K)
+      if (error <= tolerance * float(bin.K))
       {
         break;
       }
@@ -558,8 +561,8 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
       avos_failed(inner);
       avos_halve(bin);
     }
-    float h = bin.K;
-    float tEnd = bin.K == remaining ? last : t + h;
+    avos_real h = bin.K;
+    avos_real tEnd = bin.K == remaining ? last : t + h;
     ++avos_attempts;
     float innerValue = max(avos_corrected(innerPair), 0.0);
     if (innerForced)
@@ -576,12 +579,12 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
         outer.H = h;
         outer.LastSucceeded = true;
       }
-      float u = t;
+      avos_real u = t;
       float thetaU = theta;
       bout.S[0] = bin.S[0];
       while (u < tEnd)
       {
-        float k = min(outer.H, tEnd - u);
+        avos_real k = min(outer.H, tEnd - u);
         if (u == t && k == h)
         {
           bout = bin; // the inner step's samples, exactly
@@ -598,7 +601,7 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
           avos_outer(bout, thetaU, whole, halves);
           vec3 e = abs(halves - whole) / 15.0;
           float error = avos_estimateScale(bout) * max(e.r, max(e.g, e.b));
-          if (error <= tolerance * bout.K)
+          if (error <= tolerance * float(bout.K))
           {
             break;
           }
@@ -620,7 +623,7 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
           colour += halves + (halves - whole) / 15.0;
           thetaU += max(avos_corrected(avos_inner(bout)), 0.0);
         }
-        float uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
+        avos_real uEnd = bout.K == tEnd - u ? tEnd : u + bout.K;
         ++avos_attempts;
         avos_succeeded(outer);
         u = uEnd;
@@ -654,6 +657,7 @@ vec4 avos_adaptive(float D, bool coupled, float terminationDepth)
 // ----------------------------------------------------------- the pixel's ray
 float avos_rayEntry;  // voxel units from the near plane (or -1: missed)
 float avos_rayLength; // voxel units inside the box, up to the depth buffer
+avos_real avos_rayExtent; // the same, as the integrators take it
 
 // A double the mapper split into float hi + lo (hi alone without fp64).
 avos_real avos_join(float hi, float lo)
@@ -727,7 +731,8 @@ bool avos_setUpRay()
   avos_rayOrigin = centre + u0 * direction;
   avos_rayDirection = direction;
   avos_rayEntry = float(tc + u0);
-  avos_rayLength = float(u1 - u0);
+  avos_rayExtent = u1 - u0;
+  avos_rayLength = float(avos_rayExtent);
   return true;
 }
 
@@ -749,11 +754,11 @@ void avos_castRay()
   if (avos_method == 0)
   {
     float bound = avos_earlyTermination != 0 ? budget : 0.0;
-    avos_result = avos_riemann(avos_rayLength, avos_steps.w, bound);
+    avos_result = avos_riemann(avos_rayExtent, avos_steps.w, bound);
   }
   else
   {
-    avos_result = avos_adaptive(avos_rayLength, avos_method == 1, -log(budget));
+    avos_result = avos_adaptive(avos_rayExtent, avos_method == 1, -log(budget));
   }
   // Mesa's llvmpipe ends the loops of a shader invocation, silently, once
   // they have run 65535 iterations in all (gallivm's loop limiter, counted

@@ -3,23 +3,23 @@
 // double from the renderer's camera (through the pixel centre, near plane to
 // far plane, clipped to the grid's box), integrated by the core, and compared
 // with the float values the mapper writes into RenderToImage's depth image.
-// Asserted per RGBA channel: max |difference| <= eps, except at eps 1e-4
-// where float and double can decide a step's acceptance differently near
-// the threshold: both results are within the tolerance of the integral, so
-// they differ by at most 2 eps (measured: 1.1 eps on BluntFin). The rays'
-// entry and length are within 1e-4 voxel where the mapper has double-
-// precision rays (GL_ARB_gpu_shader_fp64; measured 2.6e-5 on all scenes, the
-// float rounding of the written values), else within 5e-4 (float positions
-// of the volume's size, which a grazing entry face magnifies: 3.2e-4 on
-// BluntFin). The 99th percentile is <= 1e-5, or within 1.5 times what the
-// same core compiled in float reaches on the same rays (the GPU version is
-// that code in GLSL; single precision decides some of a ray's steps
-// otherwise than double, each result within the tolerance): on Bonsai at
-// eps 1e-4 the float core's 99th percentile is 3.3e-5 and the shader's
-// 3.4e-5, elsewhere both stay near or below 1e-5 (the shader's is at most
-// the float core's but for rounding). Neither the positions (double rays)
-// nor the sums (summing the shader's integrals and error estimates in double
-// was tried: no change) decide it, but float evaluation as a whole.
+// Where the mapper has double-precision rays (GL_ARB_gpu_shader_fp64:
+// positions along and across the ray in double, samples and sums in float;
+// llvmpipe has it) the bounds are asserted as they stand: per RGBA
+// channel max |difference| <= eps and 99th percentile <= 1e-5 at eps 0.01,
+// 0.001 and 1e-4 (measured: at most 0.36 eps and 1.5e-6 over all scenes,
+// methods and both skipping settings), rays' entry and length within 1e-4
+// voxel (measured 2e-5: the float of the written values). Without fp64 the
+// shader's positions are float and so are the bounds: rays within 5e-4 voxel
+// (a grazing entry face magnifies float positions: 3.2e-4 on BluntFin), max
+// 2 eps at eps 1e-4 (two results each within eps of the integral), and a
+// 99th percentile within 1e-5 or 1.5 times what the core compiled in float
+// reaches on the same rays (3.3e-5 on Bonsai at eps 1e-4: a float step
+// bound rounds by 1.5e-5 voxel at t = 256).
+// Scenes: the analytic Marschner-Lobb volume (float data, a transfer
+// function with kinks, a jump and a spike, both opacity models), BluntFin
+// and Bonsai with their paper transfer functions (8-bit; skipped without the
+// shared data).
 // Each scene is compared twice: without empty-space skipping (the core on the
 // whole ray) and with it (the core on the parts numerics::EmptySpaceMap gives
 // for the same blocks and pad). Early termination is checked against its
@@ -296,7 +296,11 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
         else if (!segments[i].empty())
         {
           r = an::IntegrateAdaptive(f, tf, segments[i].data(), segments[i].size(), adaptive);
-          // The same core in float on the same rays: what single precision
+        }
+        if (!doubleRays && s.Method != vtkOpenGLAdaptiveVolumeMapper::RIEMANN &&
+          !segments[i].empty())
+        {
+          // The same core in float on the same rays: what float positions
           // can reach.
           const glm::vec3 o(rayOrigin[i]), d(rayDirection[i]);
           std::vector<an::Interval<float>> parts;
@@ -323,10 +327,16 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
       for (int q = 0; q < 4; ++q)
       {
         const double p99 = Percentile(differences[q], 0.99);
-        const double floatP99 = Percentile(floatDifferences[q], 0.99);
-        std::printf("  %c max %.1e p99 %.1e (float core %.1e)", "RGBA"[q], worst[q], p99, floatP99);
-        const double bound = s.Tolerance < 1e-3 ? 2.0 * s.Tolerance : s.Tolerance;
-        if (!(worst[q] <= bound) || !(p99 <= std::max(c.PercentileBound, 1.5 * floatP99)))
+        std::printf("  %c max %.1e p99 %.1e", "RGBA"[q], worst[q], p99);
+        double bound = s.Tolerance, percentileBound = c.PercentileBound;
+        if (!doubleRays)
+        {
+          const double floatP99 = Percentile(floatDifferences[q], 0.99);
+          std::printf(" (float core %.1e)", floatP99);
+          bound = s.Tolerance < 1e-3 ? 2.0 * s.Tolerance : s.Tolerance;
+          percentileBound = std::max(percentileBound, 1.5 * floatP99);
+        }
+        if (!(worst[q] <= bound) || !(p99 <= percentileBound))
         {
           failed = true;
         }
