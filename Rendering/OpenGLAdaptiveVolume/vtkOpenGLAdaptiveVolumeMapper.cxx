@@ -17,6 +17,7 @@
 #include "vtkPlaneCollection.h"
 #include "vtkRenderer.h"
 #include "vtkTextureObject.h"
+#include "vtkTimeStamp.h"
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -69,18 +70,23 @@ void Split(double x, float& hi, float& lo)
 class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
 {
 public:
+  // The property's transfer function, converted again only when the
+  // property, the opacity model or the voxel size change.
   avos::numerics::TransferFunction<double> TF;
+  vtkMTimeType TFPropertyTime = 0; // 0: not converted (or refused)
+  int TFModel = 0;
+  double TFVoxel = 0.0;
+  vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
-  // change) and their visibility as a 3D texture (rebuilt when the ranges,
-  // the property, the opacity model or the voxel size change).
+  // change) and their visibility as a 3D texture (rebuilt when the ranges or
+  // the transfer function change).
   avos::EmptySpaceRanges Ranges;
   vtkNew<vtkTextureObject> Blocks;
+  bool BlocksHoldMap = false; // else a 1^3 placeholder (skipping off)
   vtkMTimeType BlocksRangesTime = 0;
-  vtkMTimeType BlocksPropertyTime = 0;
-  int BlocksModel = -1;
-  double BlocksVoxel = 0.0;
+  vtkTimeStamp BlocksTime;
 };
 
 //------------------------------------------------------------------------------
@@ -213,10 +219,16 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     ren->GetTiledAspectRatio(), -1, 1);
   vtkNew<vtkMatrix4x4> ndcToWorld;
   vtkMatrix4x4::Invert(projection, ndcToWorld);
-  if (error.empty())
+  if (error.empty() &&
+    (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
+      voxel != internals.TFVoxel))
   {
     error = avos::TransferFunctionFromProperty(
       property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
+    internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
+    internals.TFModel = this->OpacityModel;
+    internals.TFVoxel = voxel;
+    internals.TFTime.Modified();
   }
   const auto& pieces = internals.TF.GetPieces();
   if (error.empty())
@@ -346,14 +358,13 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   // float (t of a few hundred voxels carries 3e-5).
   uniforms->SetUniformf("avos_segmentPad", this->DoublePrecisionRays ? 1e-6f : 1e-3f);
   vtkTextureObject* blocks = internals.Blocks;
+  blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
   if (this->EmptySpaceSkipping)
   {
     auto& map = internals.Ranges.GetMap();
     internals.Ranges.Update(scalars, dims); // the types TexelToScalar accepts all work
-    if (internals.BlocksRangesTime != internals.Ranges.GetTime() ||
-      internals.BlocksPropertyTime != property->GetMTime() ||
-      internals.BlocksModel != this->OpacityModel || internals.BlocksVoxel != voxel ||
-      blocks->GetHandle() == 0)
+    if (!internals.BlocksHoldMap || internals.BlocksRangesTime != internals.Ranges.GetTime() ||
+      internals.BlocksTime < internals.TFTime || blocks->GetHandle() == 0)
     {
       map.Classify(tf);
       std::vector<unsigned char> visible;
@@ -368,24 +379,21 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
           }
         }
       }
-      blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
       blocks->SetMinificationFilter(vtkTextureObject::Nearest);
       blocks->SetMagnificationFilter(vtkTextureObject::Nearest);
       blocks->Create3DFromRaw(map.GetNumberOfBlocks(0), map.GetNumberOfBlocks(1),
         map.GetNumberOfBlocks(2), 1, VTK_UNSIGNED_CHAR, visible.data());
+      internals.BlocksHoldMap = true;
       internals.BlocksRangesTime = internals.Ranges.GetTime();
-      internals.BlocksPropertyTime = property->GetMTime();
-      internals.BlocksModel = this->OpacityModel;
-      internals.BlocksVoxel = voxel;
+      internals.BlocksTime.Modified();
     }
   }
-  else if (internals.BlocksModel != -1 || blocks->GetHandle() == 0)
+  else if (internals.BlocksHoldMap || blocks->GetHandle() == 0)
   {
     // Never read, but a sampler needs a texture of its type on its unit.
     unsigned char one = 255;
-    blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
     blocks->Create3DFromRaw(1, 1, 1, 1, VTK_UNSIGNED_CHAR, &one);
-    internals.BlocksModel = -1; // the next skipping frame rebuilds
+    internals.BlocksHoldMap = false;
   }
   blocks->Activate();
   uniforms->SetUniformi("avos_blocks", blocks->GetTextureUnit());

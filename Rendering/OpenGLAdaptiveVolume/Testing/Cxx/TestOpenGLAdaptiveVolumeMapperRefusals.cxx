@@ -136,5 +136,26 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   refused(
     "an empty opacity function", "opacity", [&] { property->SetScalarOpacity(empty); },
     [&] { property->SetScalarOpacity(opacity); });
+
+  // A new transfer function is converted again and the empty-space blocks
+  // follow it: blocks built for one that hides all but the centre (skipping
+  // switched off and on uploads them anew) must not hide the outer shell once
+  // the first function is back.
+  vtkNew<vtkPiecewiseFunction> centre;
+  centre->AddPoint(0.0, 2.0);
+  centre->AddPoint(0.3, 0.0);
+  centre->AddPoint(2.0, 0.0);
+  property->SetScalarOpacity(centre);
+  mapper->EmptySpaceSkippingOff();
+  window->Render();
+  mapper->EmptySpaceSkippingOn();
+  window->Render();
+  const int small = DrawnPixels(window);
+  check(small > 0 && small < valid / 2,
+    "a centre-only transfer function draws less (" + std::to_string(small) + " pixels)");
+  property->SetScalarOpacity(opacity);
+  window->Render();
+  check(
+    DrawnPixels(window) == valid, "the first transfer function draws its whole footprint again");
   return check.Result();
 }
