@@ -29,6 +29,7 @@
 #include "avosMonitoredWork.h"
 #include "avosTransferFunctionFromProperty.h"
 
+#include "avos/engine/EmptySpace.h"
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/Accumulation.h"
 #include "avos/numerics/Clipping.h"
@@ -63,6 +64,9 @@ struct RayBuffers
 };
 
 constexpr int TileSize = 16;
+// Rays walked through the empty-space map at once (avos/engine/EmptySpace.h):
+// a tile's row.
+constexpr int PacketSize = TileSize;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
 constexpr double SegmentPad = 1e-6;
@@ -323,29 +327,26 @@ void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const Tr
   result.RGBA = glm::dvec4(color, 1.0 - T);
 }
 
-// Integrates the pixel's ray through the visible blocks (all of the box
-// without a map) that the clipping planes and cropping keep; `steps`, when
-// given, receives the accepted outer steps. False when the ray misses the
-// volume's box.
-template <typename Storage>
-bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
-  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method, int x,
-  int y, RayBuffers& buffers, an::RayResult<double>& result,
-  std::vector<an::StepRecord<double>>* steps = nullptr)
+// Whether the rays of `method` are integrated over the map's visible
+// segments (the intensity projections search the blocks themselves).
+bool WalksSegments(const an::EmptySpaceMap<double>* map, const Method& method)
 {
-  glm::dvec3 origin, direction;
-  double D;
-  if (!PixelRay(g, x, y, origin, direction, D))
-  {
-    return false;
-  }
+  return map && method.Blend == vtkVolumeMapper::COMPOSITE_BLEND;
+}
+
+// Integrates the ray origin + t direction, t in [0, D], through the visible
+// blocks (all of the box without a map) that the clipping planes and
+// cropping keep; when WalksSegments, buffers.Visible holds the ray's visible
+// segments on entry. `steps`, when given, receives the accepted outer steps.
+template <typename Storage>
+void IntegrateRay(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
+  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method,
+  const glm::dvec3& origin, const glm::dvec3& direction, double D, RayBuffers& buffers,
+  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps = nullptr)
+{
   Segments& segments = buffers.Visible;
   const bool projection = method.Blend != vtkVolumeMapper::COMPOSITE_BLEND;
-  if (map && !projection)
-  {
-    map->Segments(origin, direction, D, SegmentPad, segments);
-  }
-  else
+  if (!WalksSegments(map, method))
   {
     segments.assign(1, { 0.0, D });
   }
@@ -355,7 +356,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     if (method.Kind == vtkAdaptiveVolumeMapper::RIEMANN && !projection)
     {
       ClippedRiemann(volume, tf, method, origin, direction, segments, buffers, result, steps);
-      return true;
+      return;
     }
     // The other methods integrate exactly the segments they are given (tau
     // taken as 0 elsewhere), within their tolerance over the whole ray.
@@ -364,7 +365,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
   }
   if (segments.empty())
   {
-    return true;
+    return;
   }
   if (method.Blend == vtkVolumeMapper::ADDITIVE_BLEND ||
     method.Blend == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
@@ -392,7 +393,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     }
     result.Statistics.Cells = a.Cells;
     result.Statistics.Samples = a.Cells;
-    return true;
+    return;
   }
   if (projection)
   {
@@ -411,7 +412,7 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
     }
     result.Statistics.Cells = e.Cells;
     result.Statistics.Samples = e.Cells;
-    return true;
+    return;
   }
   switch (method.Kind)
   {
@@ -455,6 +456,27 @@ bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const Fr
             field, tf, segments.data(), segments.size(), method.Adaptive, steps);
         });
   }
+}
+
+// IntegrateRay for the pixel's ray, its segments walked here. False when
+// the ray misses the volume's box.
+template <typename Storage>
+bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
+  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method, int x,
+  int y, RayBuffers& buffers, an::RayResult<double>& result,
+  std::vector<an::StepRecord<double>>* steps = nullptr)
+{
+  glm::dvec3 origin, direction;
+  double D;
+  if (!PixelRay(g, x, y, origin, direction, D))
+  {
+    return false;
+  }
+  if (WalksSegments(map, method))
+  {
+    map->Segments(origin, direction, D, SegmentPad, buffers.Visible);
+  }
+  IntegrateRay(volume, g, tf, map, method, origin, direction, D, buffers, result, steps);
   return true;
 }
 
@@ -492,24 +514,57 @@ public:
       const int y0 = rect[2] + static_cast<int>(tile / this->TilesX) * TileSize;
       for (int y = y0; y < std::min(y0 + TileSize, rect[3]); ++y)
       {
-        for (int x = x0; x < std::min(x0 + TileSize, rect[1]); ++x)
-        {
-          this->Cast(x, y, stats, buffers);
-        }
+        this->CastRow(x0, std::min(x0 + TileSize, rect[1]), y, stats, buffers);
       }
       this->Monitor.Finished(1);
     }
   }
 
 private:
-  void Cast(int x, int y, ThreadStatistics& stats, RayBuffers& buffers)
+  // Pixels [x0, x1) of row y (at most PacketSize): the rays that meet the
+  // box, their segments walked as one packet.
+  void CastRow(int x0, int x1, int y, ThreadStatistics& stats, RayBuffers& buffers)
   {
-    an::RayResult<double> result;
-    if (!IntegratePixel(
-          this->Volume, this->Geometry, this->TF, this->Map, this->Settings, x, y, buffers, result))
+    static_assert(TileSize <= PacketSize, "a tile's row is one packet");
+    PacketBuffers& packet = this->Packets.Local();
+    int count = 0;
+    for (int x = x0; x < x1; ++x)
     {
-      return;
+      glm::dvec3 origin, direction;
+      double D;
+      if (PixelRay(this->Geometry, x, y, origin, direction, D))
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          packet.Origins[3 * count + a] = origin[a];
+          packet.Directions[3 * count + a] = direction[a];
+        }
+        packet.Lengths[count] = D;
+        packet.X[count++] = x;
+      }
     }
+    if (WalksSegments(this->Map, this->Settings))
+    {
+      avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
+        packet.Origins.data(), packet.Directions.data(), packet.Lengths.data(), SegmentPad,
+        packet.Parts.data());
+    }
+    for (int i = 0; i < count; ++i)
+    {
+      std::swap(buffers.Visible, packet.Parts[i]);
+      const glm::dvec3 origin(
+        packet.Origins[3 * i], packet.Origins[3 * i + 1], packet.Origins[3 * i + 2]);
+      const glm::dvec3 direction(
+        packet.Directions[3 * i], packet.Directions[3 * i + 1], packet.Directions[3 * i + 2]);
+      an::RayResult<double> result;
+      IntegrateRay(this->Volume, this->Geometry, this->TF, this->Map, this->Settings, origin,
+        direction, packet.Lengths[i], buffers, result);
+      this->Store(packet.X[i], y, result, stats);
+    }
+  }
+
+  void Store(int x, int y, const an::RayResult<double>& result, ThreadStatistics& stats)
+  {
     ++stats.Rays;
     if (!result.Error.empty())
     {
@@ -540,6 +595,17 @@ private:
   vtkSMPThreadLocal<RayBuffers>& Buffers;
   avos::WorkMonitor& Monitor;
   int TilesX = 0;
+
+  // One packet's rays (origin and direction: three doubles each) and their
+  // segments.
+  struct PacketBuffers
+  {
+    std::array<double, 3 * PacketSize> Origins, Directions;
+    std::array<double, PacketSize> Lengths;
+    std::array<int, PacketSize> X;
+    std::array<Segments, PacketSize> Parts;
+  };
+  vtkSMPThreadLocal<PacketBuffers> Packets;
 };
 
 } // namespace
@@ -1174,13 +1240,21 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->MeanCellsPerRay = static_cast<double>(total.Cells) / rays;
     this->MeanPiecesPerRay = static_cast<double>(total.Pieces) / rays;
 
-    // 16-bit premultiplied RGBA for the display helper.
+    // 16-bit premultiplied RGBA for the display helper, in parallel (a
+    // serial pass over the image weighed on two threads). v * 65535 + 0.5
+    // is exact in float for v in [0, 1] (at most 8 fractional bits there),
+    // so truncating it rounds as lround did; NaN gives 0.
     internals.Display.resize(4 * static_cast<std::size_t>(width) * height);
-    for (std::size_t i = 0; i < internals.Display.size(); ++i)
-    {
-      const float v = std::min(std::max(image[i], 0.0f), 1.0f);
-      internals.Display[i] = static_cast<std::uint16_t>(std::lround(v * 65535.0f));
-    }
+    std::uint16_t* display = internals.Display.data();
+    vtkSMPTools::For(0, static_cast<vtkIdType>(internals.Display.size()),
+      [display, image](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const float v = image[i] > 0.0f ? std::min(image[i], 1.0f) : 0.0f;
+          display[i] = static_cast<std::uint16_t>(v * 65535.0f + 0.5f);
+        }
+      });
 
     internals.Projection = projectionValues;
     internals.VolumeMatrix = volumeValues;

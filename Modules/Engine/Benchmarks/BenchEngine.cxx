@@ -1,10 +1,13 @@
-// Google Benchmark rows of the vectorised Riemann kernel on each dispatch
-// target against the scalar double sum of the numerical core, on the same
-// rays through a 256^3 smooth volume with a 64-knot transfer function
-// (h 0.5, no early termination): time per ray and per sample.
+// Google Benchmark rows of the vectorised kernels on each dispatch target
+// against the scalar code of the numerical core, on the same rays through a
+// 256^3 smooth volume: the Riemann kernel (64-knot transfer function, h 0.5,
+// no early termination; time per ray and per sample) and the packet walk of
+// the empty-space map (a transfer function transparent below 150, bundles of
+// 16 neighbouring rays as a tile's row casts them; time per ray).
 //   build/bin/avos-bench-engine
 #include "AdversarialCases.h"
 
+#include "avos/engine/EmptySpace.h"
 #include "avos/engine/Riemann.h"
 
 #include "hwy/targets.h"
@@ -69,6 +72,122 @@ const Fixture& Get(bool alpha)
   static const std::unique_ptr<Fixture> extinction(new Fixture(false));
   static const std::unique_ptr<Fixture> vtk(new Fixture(true));
   return alpha ? *vtk : *extinction;
+}
+
+// The fixture's volume with a transfer function transparent below 150.
+const an::EmptySpaceMap<double>& GetMap()
+{
+  static const std::unique_ptr<an::EmptySpaceMap<double>> map(
+    []
+    {
+      const Fixture& f = Get(false);
+      an::TransferFunction<double> tf;
+      tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+      tf.AddOpacityKnot(0.0, 0.0);
+      tf.AddOpacityKnot(150.0, 0.0);
+      tf.AddOpacityKnot(255.0, 1.0);
+      tf.Finalize();
+      auto* m = new an::EmptySpaceMap<double>();
+      m->SetDimensions(f.Dimensions);
+      m->ComputeRanges(f.Data.data(), 0, m->GetNumberOfBlocks(2));
+      m->Classify(tf);
+      return m;
+    }());
+  return *map;
+}
+
+// Bundles of 16 rays as a tile's row of pixels casts them: from one eye, 2
+// mrad apart (half a voxel at the volume's far side), clipped to the box;
+// one bundle per ray of the fixture's first 64.
+const std::vector<adversarial::Ray>& GetBundles()
+{
+  static const std::unique_ptr<std::vector<adversarial::Ray>> bundles(
+    []
+    {
+      const Fixture& f = Get(false);
+      auto* rays = new std::vector<adversarial::Ray>();
+      for (std::size_t b = 0; b < 64; ++b)
+      {
+        const adversarial::Ray& base = f.RaySet[b];
+        const glm::dvec3 eye = base.Origin - 300.0 * base.Direction;
+        const glm::dvec3 axis =
+          std::abs(base.Direction.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 across = glm::normalize(glm::cross(base.Direction, axis));
+        for (int k = 0; k < 16; ++k)
+        {
+          const glm::dvec3 d = glm::normalize(base.Direction + (k - 7.5) * 0.002 * across);
+          double t0 = 0.0, t1 = 1e4;
+          if (an::ClipToGrid(eye, d, f.Dimensions, t0, t1))
+          {
+            rays->push_back({ eye + t0 * d, d, t1 - t0 });
+          }
+        }
+      }
+      return rays;
+    }());
+  return *bundles;
+}
+
+void ReportWalk(benchmark::State& state, long rays, long segments)
+{
+  state.counters["time_per_ray"] =
+    benchmark::Counter(double(rays), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["segments_per_ray"] = double(segments) / double(std::max(rays, 1L));
+}
+
+void WalkScalar(benchmark::State& state)
+{
+  const an::EmptySpaceMap<double>& map = GetMap();
+  std::vector<an::Interval<double>> segments;
+  long rays = 0, count = 0;
+  for (auto _ : state)
+  {
+    for (const auto& ray : GetBundles())
+    {
+      map.Segments(ray.Origin, ray.Direction, ray.Length, 1e-6, segments);
+      benchmark::DoNotOptimize(segments.data());
+      count += static_cast<long>(segments.size());
+      ++rays;
+    }
+  }
+  ReportWalk(state, rays, count);
+}
+BENCHMARK(WalkScalar)->Unit(benchmark::kMillisecond);
+
+void WalkPacket(benchmark::State& state)
+{
+  const an::EmptySpaceMap<double>& map = GetMap();
+  hwy::SetSupportedTargetsForTest(state.range(0));
+  state.SetLabel(ae::PacketSegmentsTarget());
+  constexpr std::size_t Packet = 16; // the mapper's (a tile's row)
+  std::vector<double> origins, directions, lengths;
+  for (const auto& ray : GetBundles())
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      origins.push_back(ray.Origin[a]);
+      directions.push_back(ray.Direction[a]);
+    }
+    lengths.push_back(ray.Length);
+  }
+  std::vector<std::vector<an::Interval<double>>> segments(Packet);
+  long rays = 0, count = 0;
+  for (auto _ : state)
+  {
+    for (std::size_t first = 0; first < lengths.size(); first += Packet)
+    {
+      const std::size_t n = std::min(Packet, lengths.size() - first);
+      ae::PacketSegments(map, n, origins.data() + 3 * first, directions.data() + 3 * first,
+        lengths.data() + first, 1e-6, segments.data());
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        count += static_cast<long>(segments[i].size());
+      }
+      rays += static_cast<long>(n);
+    }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  ReportWalk(state, rays, count);
 }
 
 void Report(benchmark::State& state, long rays, long samples)
@@ -142,6 +261,10 @@ void RegisterTargets()
         ->Args({ target, alpha })
         ->Unit(benchmark::kMillisecond);
     }
+    benchmark::RegisterBenchmark(
+      (std::string("WalkPacket/") + hwy::TargetName(target)).c_str(), WalkPacket)
+      ->Arg(target)
+      ->Unit(benchmark::kMillisecond);
   }
 }
 } // namespace

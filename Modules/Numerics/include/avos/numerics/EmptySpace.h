@@ -64,18 +64,34 @@ public:
     }
     this->Minimum.assign(count, Real(0));
     this->Maximum.assign(count, Real(0));
-    this->Visible.assign(count, 0);
+    this->BlockCount = count;
     std::size_t supers = 1;
     for (int a = 0; a < 3; ++a)
     {
       this->Supers[a] = (this->Blocks[a] + SuperSize - 1) / SuperSize;
       supers *= static_cast<std::size_t>(this->Supers[a]);
     }
-    this->SuperState.assign(supers, None);
+    this->Table.assign(count + supers + TablePadding, 0); // nothing visible: None
   }
 
   int GetNumberOfBlocks(int axis) const { return this->Blocks[axis]; }
-  std::size_t GetNumberOfBlocks() const { return this->Visible.size(); }
+  std::size_t GetNumberOfBlocks() const { return this->BlockCount; }
+  int GetNumberOfSuperblocks(int axis) const { return this->Supers[axis]; }
+
+  // A superblock's state in the walk table.
+  enum SuperStates : unsigned char
+  {
+    None, // no block visible
+    All,  // every block visible
+    Some
+  };
+
+  // For walks outside this class (the engine's packet walk): one byte per
+  // block (1: visible), x fastest, then one per superblock (SuperStates)
+  // from GetNumberOfBlocks() on, then TablePadding bytes, so that a 32-bit
+  // load from any entry stays inside.
+  static constexpr std::size_t TablePadding = 3;
+  const unsigned char* GetWalkTable() const { return this->Table.data(); }
 
   // Fills the ranges of the blocks in z-layers [zBegin, zEnd) (layers are
   // independent: callers may fill them in parallel). Returns the number of
@@ -133,12 +149,12 @@ public:
   std::size_t Classify(const TransferFunction<Real>& tf)
   {
     std::size_t visible = 0;
-    for (std::size_t i = 0; i < this->Visible.size(); ++i)
+    for (std::size_t i = 0; i < this->BlockCount; ++i)
     {
       // A block of NaN only (lo > hi) is transparent: NaN maps to tau = 0.
       const bool v = this->Minimum[i] <= this->Maximum[i] &&
         tf.GetMaximumExtinction(this->Minimum[i], this->Maximum[i]) > Real(0);
-      this->Visible[i] = v ? 1 : 0;
+      this->Table[i] = v ? 1 : 0;
       visible += v ? 1 : 0;
     }
     for (int sz = 0; sz < this->Supers[2]; ++sz)
@@ -158,21 +174,19 @@ public:
               for (int bx = first[0]; bx < last[0]; ++bx)
               {
                 ++count;
-                shown += this->Visible[this->Index(bx, by, bz)];
+                shown += this->Table[this->Index(bx, by, bz)];
               }
             }
           }
-          this->SuperState[this->SuperIndex(s)] = shown == 0 ? None : (shown == count ? All : Some);
+          this->Table[this->BlockCount + this->SuperIndex(s)] =
+            shown == 0 ? None : (shown == count ? All : Some);
         }
       }
     }
     return visible;
   }
 
-  bool IsVisible(int bx, int by, int bz) const
-  {
-    return this->Visible[this->Index(bx, by, bz)] != 0;
-  }
+  bool IsVisible(int bx, int by, int bz) const { return this->Table[this->Index(bx, by, bz)] != 0; }
 
   // The parts of the ray origin + t direction, t in [0, D], that cross visible
   // blocks. The ray is expected inside the volume's box for t in [0, D].
@@ -202,7 +216,7 @@ public:
     walker.Walk(Real(0), D, Real(BlockSize * SuperSize), none, this->Supers,
       [&](const int* s, Real t, Real exit)
       {
-        const unsigned char state = this->SuperState[this->SuperIndex(s)];
+        const unsigned char state = this->Table[this->BlockCount + this->SuperIndex(s)];
         if (state == All)
         {
           keep(t, exit);
@@ -214,7 +228,7 @@ public:
           walker.Walk(t, exit, Real(BlockSize), first, last,
             [&](const int* b, Real bt, Real bexit)
             {
-              if (this->Visible[this->Index(b[0], b[1], b[2])])
+              if (this->Table[this->Index(b[0], b[1], b[2])])
               {
                 keep(bt, bexit);
               }
@@ -256,13 +270,6 @@ public:
   }
 
 private:
-  enum SuperStates : unsigned char
-  {
-    None, // no block visible
-    All,  // every block visible
-    Some
-  };
-
   // Amanatides and Woo's traversal of a grid of cubes of edge `size` (grid
   // units), indices in [lower, upper) per axis.
   class Walker
@@ -366,8 +373,8 @@ private:
   int Supers[3] = { 0, 0, 0 };
   std::vector<Real> Minimum;
   std::vector<Real> Maximum;
-  std::vector<unsigned char> Visible;
-  std::vector<unsigned char> SuperState;
+  std::size_t BlockCount = 0;
+  std::vector<unsigned char> Table; // see GetWalkTable
 };
 
 } // namespace numerics
