@@ -2,6 +2,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -13,6 +14,7 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkTriangleFilter.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
@@ -496,6 +498,66 @@ private:
 
 vtkStandardNewMacro(vtkOpenMeshDecimation);
 
+namespace
+{
+// The polygons and strips of `input` that are not ghost cells (DUPLICATECELL
+// in vtkGhostType: another piece's, as a distributed pipeline hands them
+// over), on the input's points; `interface` flags the points they share with
+// ghost cells (the piece's border with its neighbours). Null when the input
+// has no ghost polygons or strips.
+vtkSmartPointer<vtkPolyData> OwnedCells(vtkPolyData* input, std::vector<char>& interface)
+{
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  if (!ghosts)
+  {
+    return nullptr;
+  }
+  const vtkIdType points = input->GetNumberOfPoints();
+  std::vector<char> owned(static_cast<std::size_t>(points), 0), ghost(owned);
+  vtkNew<vtkCellArray> cells[2];
+  vtkIdType id = input->GetNumberOfVerts() + input->GetNumberOfLines(); // polygons first
+  bool any = false;
+  vtkCellArray* arrays[2] = { input->GetPolys(), input->GetStrips() };
+  for (int k = 0; k < 2; ++k)
+  {
+    auto it = vtk::TakeSmartPointer(arrays[k]->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++id)
+    {
+      vtkIdList* ids = it->GetCurrentCell();
+      const bool isGhost = (ghosts->GetValue(id) & vtkDataSetAttributes::DUPLICATECELL) != 0;
+      any = any || isGhost;
+      for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+      {
+        const vtkIdType p = ids->GetId(i);
+        if (p >= 0 && p < points)
+        {
+          (isGhost ? ghost : owned)[static_cast<std::size_t>(p)] = 1;
+        }
+      }
+      if (!isGhost)
+      {
+        cells[k]->InsertNextCell(ids);
+      }
+    }
+  }
+  if (!any)
+  {
+    return nullptr;
+  }
+  interface.assign(static_cast<std::size_t>(points), 0);
+  for (std::size_t p = 0; p < interface.size(); ++p)
+  {
+    interface[p] = owned[p] && ghost[p];
+  }
+  vtkNew<vtkPolyData> result;
+  result->SetPoints(input->GetPoints());
+  result->GetPointData()->ShallowCopy(input->GetPointData());
+  result->SetPolys(cells[0]);
+  result->SetStrips(cells[1]);
+  return result;
+}
+} // namespace
+
 int vtkOpenMeshDecimation::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -511,6 +573,19 @@ int vtkOpenMeshDecimation::RequestData(
   if (input->GetNumberOfVerts() + input->GetNumberOfLines() > 0)
   {
     vtkWarningMacro(<< "Vertices and lines of the input are ignored.");
+  }
+  // A piece of a distributed surface decimates the triangles it owns; its
+  // border with the other pieces is locked, so that both sides keep it and
+  // the pieces still meet.
+  std::vector<char> interface;
+  const vtkSmartPointer<vtkPolyData> owned = OwnedCells(input, interface);
+  if (owned)
+  {
+    if (owned->GetNumberOfPolys() + owned->GetNumberOfStrips() == 0)
+    {
+      return 1; // only ghost cells: this piece has nothing of its own
+    }
+    input = owned;
   }
   for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
   {
@@ -615,14 +690,13 @@ int vtkOpenMeshDecimation::RequestData(
     vtkErrorMacro(<< "The input has no usable triangles.");
     return 1;
   }
-  if (!this->BoundaryVertexDeletion)
+  for (const Mesh::VertexHandle v : mesh.vertices())
   {
-    for (const Mesh::VertexHandle v : mesh.vertices())
+    const bool border =
+      !interface.empty() && interface[static_cast<std::size_t>(mesh.property(originalId, v))];
+    if (border || (!this->BoundaryVertexDeletion && mesh.is_boundary(v)))
     {
-      if (mesh.is_boundary(v))
-      {
-        mesh.status(v).set_locked(true);
-      }
+      mesh.status(v).set_locked(true);
     }
   }
   mesh.update_face_normals();

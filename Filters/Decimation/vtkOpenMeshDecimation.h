@@ -21,11 +21,19 @@
  * taken. The reduction may stop short of the target when no collapse passes
  * the constraints; GetAchievedReduction() says how far it got.
  *
- * Input: polygons (triangulated first when they are not triangles); vertices,
- * lines and strips are ignored with a warning. Faces that cannot join a
- * manifold mesh (a third face on an edge, a pinched vertex) keep their own
- * copies of their vertices and are reported with a warning; degenerate
- * triangles are dropped and reported.
+ * Input: polygons and triangle strips (triangulated first when they are not
+ * triangles); vertices and lines are ignored with a warning. Faces that
+ * cannot join a manifold mesh (a third face on an edge, a pinched vertex)
+ * keep their own copies of their vertices and are reported with a warning;
+ * degenerate triangles are dropped and reported.
+ *
+ * Distributed input: ghost cells (vtkGhostType with DUPLICATECELL, another
+ * piece's cells) are left out, so each piece decimates only the triangles it
+ * owns and no triangle is output twice; the vertices a piece shares with
+ * ghost cells (its border with the neighbouring pieces) are locked, even
+ * with BoundaryVertexDeletion on, so that the pieces keep meeting along the
+ * same edges. The output has no ghost cells. A piece of ghost cells only
+ * gives an empty output.
  *
  * @sa vtkDecimatePro vtkQuadricDecimation
  */

@@ -1,10 +1,13 @@
 // vtkOpenMeshDecimation: the reduction reached within 1 % of the target for
 // every decimater, genus and boundaries unchanged, boundary vertices kept,
 // output vertices a subset of the input with their point data and original
-// ids, the Hausdorff constraint honoured, and bad input reported.
+// ids, the Hausdorff constraint honoured, ghost cells of a distributed
+// surface left out with its pieces' border kept, and bad input reported.
 #include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCellData.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFlyingEdges3D.h"
 #include "vtkHausdorffDistancePointSetFilter.h"
@@ -17,12 +20,14 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 
 #include "avosTestHelpers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <utility>
@@ -322,6 +327,137 @@ int TestOpenMeshDecimation(int, char*[])
     Expect(d >= 0.0 && d <= 0.002 * (1 + 1e-6), "removed vertices within the tolerance");
   }
   decimate->SetHausdorffTolerance(0.0);
+
+  // Two pieces of the sheet as a distributed pipeline hands them over: each
+  // its own quads (centroid left or right of x = 0) and, marked as ghost
+  // cells, the other side's quads that touch them. With boundary vertex
+  // deletion on (so only the border's lock keeps it), each piece's output
+  // uses only its own quads' points, and both keep the same border edges.
+  {
+    auto centroidX = [&](vtkIdList* ids)
+    {
+      double x = 0.0;
+      for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+      {
+        x += sheet->GetPoint(ids->GetId(i))[0];
+      }
+      return x / static_cast<double>(ids->GetNumberOfIds());
+    };
+    std::set<vtkIdType> used[2]; // points of each side's own quads
+    {
+      auto it = vtk::TakeSmartPointer(sheet->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdList* ids = it->GetCurrentCell();
+        for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+        {
+          used[centroidX(ids) < 0.0 ? 0 : 1].insert(ids->GetId(i));
+        }
+      }
+    }
+    std::set<vtkIdType> border;
+    std::set_intersection(used[0].begin(), used[0].end(), used[1].begin(), used[1].end(),
+      std::inserter(border, border.begin()));
+    auto piece = [&](int side)
+    {
+      vtkNew<vtkCellArray> cells;
+      vtkNew<vtkUnsignedCharArray> ghosts;
+      ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+      auto it = vtk::TakeSmartPointer(sheet->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdList* ids = it->GetCurrentCell();
+        const bool own = (centroidX(ids) < 0.0) == (side == 0);
+        bool touches = false;
+        for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i)
+        {
+          touches = touches || used[side].count(ids->GetId(i)) > 0;
+        }
+        if (own || touches)
+        {
+          cells->InsertNextCell(ids);
+          ghosts->InsertNextValue(own ? 0 : vtkDataSetAttributes::DUPLICATECELL);
+        }
+      }
+      vtkNew<vtkPolyData> result;
+      result->SetPoints(sheet->GetPoints());
+      result->GetPointData()->ShallowCopy(sheet->GetPointData());
+      result->SetPolys(cells);
+      result->GetCellData()->AddArray(ghosts);
+      return vtkSmartPointer<vtkPolyData>(result);
+    };
+    // Boundary edges between border points, by input ids.
+    auto borderEdges = [&](vtkPolyData* out)
+    {
+      auto* ids =
+        vtkIdTypeArray::SafeDownCast(out->GetPointData()->GetArray("vtkOriginalPointIds"));
+      std::map<std::pair<vtkIdType, vtkIdType>, int> edges;
+      auto it = vtk::TakeSmartPointer(out->GetPolys()->NewIterator());
+      for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
+      {
+        vtkIdList* tri = it->GetCurrentCell();
+        for (int k = 0; k < 3; ++k)
+        {
+          const vtkIdType a = ids->GetValue(tri->GetId(k)),
+                          b = ids->GetValue(tri->GetId((k + 1) % 3));
+          ++edges[{ std::min(a, b), std::max(a, b) }];
+        }
+      }
+      std::set<std::pair<vtkIdType, vtkIdType>> result;
+      for (const auto& e : edges)
+      {
+        if (e.second == 1 && border.count(e.first.first) && border.count(e.first.second))
+        {
+          result.insert(e.first);
+        }
+      }
+      return result;
+    };
+    decimate->SetDecimaterTypeToExact();
+    decimate->SetTargetReduction(0.8);
+    decimate->BoundaryVertexDeletionOn();
+    std::set<std::pair<vtkIdType, vtkIdType>> edges[2];
+    for (int side : { 0, 1 })
+    {
+      decimate->SetInputData(piece(side));
+      decimate->Update();
+      vtkPolyData* out = decimate->GetOutput();
+      auto* ids =
+        vtkIdTypeArray::SafeDownCast(out->GetPointData()->GetArray("vtkOriginalPointIds"));
+      bool own = out->GetNumberOfPoints() > 0, keepsBorder = true;
+      std::set<vtkIdType> kept;
+      for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+      {
+        own = own && used[side].count(ids->GetValue(i)) > 0;
+        kept.insert(ids->GetValue(i));
+      }
+      for (vtkIdType p : border)
+      {
+        keepsBorder = keepsBorder && kept.count(p) > 0;
+      }
+      edges[side] = borderEdges(out);
+      const std::string what = "piece " + std::to_string(side);
+      std::cout << what << ": " << out->GetNumberOfPolys() << " triangles, " << edges[side].size()
+                << " border edges\n";
+      Expect(own, what + ": no ghost cell decimated into the output");
+      Expect(keepsBorder, what + ": every border vertex kept");
+      Expect(decimate->GetAchievedReduction() > 0.6, what + ": decimated");
+      Expect(out->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()) == nullptr,
+        what + ": no ghost cells out");
+    }
+    Expect(edges[0].size() == border.size() - 1 && edges[0] == edges[1],
+      "both pieces keep the same border edges: they still meet");
+    decimate->BoundaryVertexDeletionOff();
+
+    // A piece of ghost cells only: nothing of its own, an empty output.
+    vtkSmartPointer<vtkPolyData> ghostsOnly = piece(0);
+    auto* flags = vtkUnsignedCharArray::SafeDownCast(
+      ghostsOnly->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()));
+    flags->Fill(vtkDataSetAttributes::DUPLICATECELL);
+    decimate->SetInputData(ghostsOnly);
+    decimate->Update();
+    Expect(decimate->GetOutput()->GetNumberOfPolys() == 0, "a ghost-only piece: empty output");
+  }
 
   // Non-manifold and degenerate input: a fan of three triangles on one edge
   // and a triangle with a repeated vertex. Reported, decimated, no crash.
