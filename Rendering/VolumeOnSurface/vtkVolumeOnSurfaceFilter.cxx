@@ -13,6 +13,7 @@
 #include "vtkPolyData.h"
 #include "vtkPolyDataNormals.h"
 #include "vtkSMPTools.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumeProperty.h"
 
@@ -155,6 +156,28 @@ vtkMTimeType vtkVolumeOnSurfaceFilter::GetMTime()
 int vtkVolumeOnSurfaceFilter::FillInputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), port == 0 ? "vtkPolyData" : "vtkImageData");
+  return 1;
+}
+
+int vtkVolumeOnSurfaceFilter::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // The surface: the piece asked of this filter (the superclass's request).
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // The volume: whole, whatever the piece (rays cross the pieces' borders).
+  vtkInformation* volumeInfo = inputVector[1]->GetInformationObject(0);
+  if (volumeInfo && volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    volumeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    volumeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    volumeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    volumeInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    volumeInfo->Set(vtkStreamingDemandDrivenPipeline::EXACT_EXTENT(), 1);
+  }
   return 1;
 }
 

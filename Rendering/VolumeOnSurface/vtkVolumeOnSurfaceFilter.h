@@ -38,6 +38,13 @@
  * single-component point scalars; SetVolumeConnection). Steps are in voxel
  * units (the smallest spacing), as in vtkAdaptiveVolumeMapper.
  *
+ * Pieces (distributed pipelines): the surface is the piece asked of this
+ * filter, with its ghost cells passed through (each vertex is coloured
+ * alike on every piece that holds it); the volume is requested whole on
+ * every piece, since a vertex's rays leave the piece's part of the volume:
+ * each piece's colours equal those of the whole surface, at the cost of the
+ * whole volume's memory per process.
+ *
  * @sa vtkAdaptiveVolumeMapper vtkOpenMeshDecimation
  */
 #ifndef vtkVolumeOnSurfaceFilter_h
@@ -182,6 +189,7 @@ protected:
   ~vtkVolumeOnSurfaceFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkVolumeProperty* VolumeProperty = nullptr;
