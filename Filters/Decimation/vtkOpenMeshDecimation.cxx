@@ -13,6 +13,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -567,6 +568,13 @@ int vtkOpenMeshDecimation::RequestData(
   this->HausdorffBound = 0.0;
   if (!input || input->GetNumberOfPolys() + input->GetNumberOfStrips() == 0)
   {
+    // One piece of several may hold nothing (a rank's part of a surface
+    // that lies elsewhere): an empty output, not an error.
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    if (input && outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) > 1)
+    {
+      return 1;
+    }
     vtkErrorMacro(<< "The input has no polygons to decimate.");
     return 1;
   }

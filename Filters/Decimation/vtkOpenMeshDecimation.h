@@ -32,8 +32,9 @@
  * owns and no triangle is output twice; the vertices a piece shares with
  * ghost cells (its border with the neighbouring pieces) are locked, even
  * with BoundaryVertexDeletion on, so that the pieces keep meeting along the
- * same edges. The output has no ghost cells. A piece of ghost cells only
- * gives an empty output.
+ * same edges. The output has no ghost cells. An empty piece, or one of
+ * ghost cells only, gives an empty output (an error only when the whole
+ * input is empty).
  *
  * @sa vtkDecimatePro vtkQuadricDecimation
  */

@@ -491,6 +491,10 @@ int TestOpenMeshDecimation(int, char*[])
   decimate->Update();
   Expect(errors.Check("empty input", "no polygons"), "empty input");
   Expect(decimate->GetOutput()->GetNumberOfPoints() == 0, "empty output");
+  // An empty piece of several is a rank's share of nothing: no error.
+  decimate->UpdatePiece(1, 2, 0);
+  Expect(errors.None("empty piece 1 of 2"), "an empty piece is no error");
+  Expect(decimate->GetOutput()->GetNumberOfPoints() == 0, "an empty piece's output");
 
   vtkNew<vtkPolyData> withNaN;
   withNaN->DeepCopy(torus);

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds the AVoS ParaView plugin against Debian's ParaView 5.11 and tests it:
+# pvpython loads it and runs reader -> contour -> decimation, then pvbatch on
+# 2 and 4 MPI ranks runs the same (each rank prints its work) and the totals
+# are compared with the one-process run (Plugin/Testing/ComparePieces.py).
+#
+# python3-paraview conflicts with python3-vtk9 (both install vtkmodules), and
+# paraview-dev's CMake files need it: this script installs ParaView's
+# packages for the time it runs and always puts the VTK ones back
+# (scripts/install-deps.sh, on any exit), so that scripts/test.sh works
+# afterwards. Never run it beside another build or test of the project.
+# Output: out/paraview (build-paraview/ holds the plugin's build).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="$root/build-paraview"
+out="$root/out/paraview"
+data="${AVOS_SHARED_DATA_DIR:-$root/../shared/data}"
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
+restore() {
+  echo "Restoring the VTK packages (scripts/install-deps.sh)"
+  "$root/scripts/install-deps.sh"
+}
+trap restore EXIT
+
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends \
+  paraview paraview-dev python3-paraview openmpi-bin xvfb xauth \
+  libopenmesh-dev libglm-dev libhwy-dev cmake build-essential >/dev/null
+
+cmake -S "$root/Plugin" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" --parallel "$(nproc)"
+plugin="$build/lib/paraview-plugins/AVoS/AVoS.so"
+
+rm -rf "$out"
+mkdir -p "$out"
+script="$root/Plugin/Testing/PipelinePieces.py"
+echo "== pvpython, one process"
+xvfb-run -a pvpython "$script" "$plugin" "$data" "$out/ranks-1.json"
+for ranks in 2 4; do
+  echo "== pvbatch on $ranks MPI ranks"
+  xvfb-run -a mpiexec --allow-run-as-root --oversubscribe -n "$ranks" \
+    pvbatch --symmetric "$script" "$plugin" "$data" "$out/ranks-$ranks.json"
+done
+python3 "$root/Plugin/Testing/ComparePieces.py" "$out"/ranks-{1,2,4}.json
+echo "ParaView plugin tests passed"
