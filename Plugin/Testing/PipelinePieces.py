@@ -1,15 +1,20 @@
-"""Reader -> Contour -> OpenMesh Decimation in ParaView with the AVoS plugin,
-run by pvbatch --symmetric on any number of MPI ranks (or by pvpython): every
-rank prints its own work (its piece's triangles, owned and ghost, before and
-after decimation, and its border vertices) and rank 0 writes the totals as
-JSON for scripts/test-paraview.sh to compare across rank counts.
+"""Reader -> Contour -> OpenMesh Decimation, and Volume on Surface on the
+contour, in ParaView with the AVoS plugin, run by pvbatch --symmetric on any
+number of MPI ranks (or by pvpython): every rank prints its own work (its
+piece's triangles, owned and ghost, before and after decimation, its border
+vertices, the vertices of its own triangles it coloured) and writes those
+vertices' colours to OUT.rankK.json; rank 0 writes the totals to OUT.json,
+for ComparePieces.py to compare across rank counts. (The colours are
+compared on the contour: a decimated vertex's colour depends on its
+normal, which the decimation of each piece changes.)
   pvbatch --symmetric PipelinePieces.py PLUGIN DATA_DIR OUT.json
 """
 
 import json
 import sys
 
-from paraview.simple import Contour, LoadPlugin
+from paraview.simple import (Contour, GetColorTransferFunction, GetOpacityTransferFunction,
+                             LoadPlugin)
 from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes
 from vtkmodules.vtkParallelCore import vtkMultiProcessController
 
@@ -23,9 +28,22 @@ ranks = controller.GetNumberOfProcesses() if controller else 1
 reader = VolvisRawReader(  # noqa: F821
     FileName=data + "/volumes/Neghip.1.64x64x64.raw")
 contour = Contour(Input=reader, ContourBy=["POINTS", "density"], Isosurfaces=[60.0],
-                  ComputeScalars=0)
+                  ComputeNormals=1, ComputeScalars=0)
 decimate = OpenMeshDecimation(  # noqa: F821
     Input=contour, TargetReduction=0.75, DecimaterType="Exact")
+colours = GetColorTransferFunction("density")
+colours.RGBPoints = [0.0, 0.1, 0.2, 1.0, 255.0, 1.0, 0.4, 0.1]
+opacity = GetOpacityTransferFunction("density")
+opacity.Points = [0.0, 0.0, 0.5, 0.0, 255.0, 0.3, 0.5, 0.0]
+# The volume port gets its own reader: one output cannot hold the contour's
+# piece and the whole volume at once (docs/DISTRIBUTED.md).
+volume = VolvisRawReader(  # noqa: F821
+    FileName=data + "/volumes/Neghip.1.64x64x64.raw")
+vos = VolumeonSurface(  # noqa: F821
+    Input=contour, Volume=volume, ColorTransferFunction=colours,
+    ScalarOpacityFunction=opacity, CameraPosition=[32.0, 20.0, 250.0],
+    CameraFocalPoint=[32.0, 32.0, 32.0])
+vos.UpdatePipeline()
 decimate.UpdatePipeline()
 
 
@@ -47,9 +65,17 @@ for c in range(surface.GetNumberOfCells()):
     ownedCells += 0 if isGhost else 1
 border = len(owned & ghost)
 decimated = local(decimate).GetNumberOfCells()
+coloured = local(vos)
+rgba = coloured.GetPointData().GetArray("VoSColors")
+vertices = []
+for i in sorted(owned):  # the points of this rank's own triangles
+    vertices.append(list(coloured.GetPoint(i)) + [rgba.GetValue(4 * i + c) for c in range(4)])
+with open("%s.rank%d.json" % (out, rank), "w") as f:
+    json.dump(vertices, f)
 mine = [ownedCells, surface.GetNumberOfCells() - ownedCells, decimated, border]
 print("rank %d of %d: contour %d owned + %d ghost triangles, %d border vertices; "
-      "decimated %d triangles" % (rank, ranks, mine[0], mine[1], mine[3], mine[2]), flush=True)
+      "decimated %d triangles; %d vertices coloured" % (rank, ranks, mine[0], mine[1], mine[3],
+                                                         mine[2], len(vertices)), flush=True)
 
 # Totals on rank 0.
 totals = list(mine)

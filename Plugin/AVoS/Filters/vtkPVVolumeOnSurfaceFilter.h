@@ -1,0 +1,65 @@
+/**
+ * @class   vtkPVVolumeOnSurfaceFilter
+ * @brief   vtkVolumeOnSurfaceFilter as ParaView's proxies drive it
+ *
+ * ParaView's server manager sets properties, not objects: this subclass owns
+ * the camera the colours are assigned for (its position, focal point, view
+ * up, view angle and projection as properties) and the volume property
+ * (ParaView's colour and opacity transfer-function proxies, linear
+ * interpolation). Everything else is vtkVolumeOnSurfaceFilter's, including
+ * its piece handling: the surface's piece, the whole volume.
+ *
+ * @sa vtkVolumeOnSurfaceFilter
+ */
+#ifndef vtkPVVolumeOnSurfaceFilter_h
+#define vtkPVVolumeOnSurfaceFilter_h
+
+#include "avosParaViewFiltersModule.h" // For export macro
+#include "vtkNew.h"                    // For vtkNew
+#include "vtkVolumeOnSurfaceFilter.h"
+
+class vtkCamera;
+class vtkColorTransferFunction;
+class vtkPiecewiseFunction;
+class vtkVolumeProperty;
+
+class AVOSPARAVIEWFILTERS_EXPORT vtkPVVolumeOnSurfaceFilter : public vtkVolumeOnSurfaceFilter
+{
+public:
+  static vtkPVVolumeOnSurfaceFilter* New();
+  vtkTypeMacro(vtkPVVolumeOnSurfaceFilter, vtkVolumeOnSurfaceFilter);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The camera the colours are assigned for (vtkCamera's meanings).
+   */
+  void SetCameraPosition(double x, double y, double z);
+  void SetCameraFocalPoint(double x, double y, double z);
+  void SetCameraViewUp(double x, double y, double z);
+  void SetCameraViewAngle(double degrees);
+  void SetCameraParallelProjection(int parallel);
+  ///@}
+
+  ///@{
+  /**
+   * The volume's colour and opacity functions (ParaView's lookup table and
+   * opacity function of the volume's array).
+   */
+  void SetColorTransferFunction(vtkColorTransferFunction* colors);
+  void SetScalarOpacityFunction(vtkPiecewiseFunction* opacity);
+  ///@}
+
+protected:
+  vtkPVVolumeOnSurfaceFilter();
+  ~vtkPVVolumeOnSurfaceFilter() override;
+
+private:
+  vtkPVVolumeOnSurfaceFilter(const vtkPVVolumeOnSurfaceFilter&) = delete;
+  void operator=(const vtkPVVolumeOnSurfaceFilter&) = delete;
+
+  vtkNew<vtkCamera> OwnCamera;
+  vtkNew<vtkVolumeProperty> OwnProperty;
+};
+
+#endif
