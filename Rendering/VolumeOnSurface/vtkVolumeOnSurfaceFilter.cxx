@@ -202,6 +202,27 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
     return 1;
   }
+  // The whole volume was requested (RequestUpdateExtent); a part of it means
+  // that another consumer of the same producer output asked for a piece
+  // later in the same update (one output holds one request): the rays would
+  // end at the piece's border.
+  vtkInformation* volumeInfo = inputVector[1]->GetInformationObject(0);
+  if (volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    int whole[6], extent[6];
+    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    volume->GetExtent(extent);
+    if (!std::equal(extent, extent + 6, whole))
+    {
+      vtkErrorMacro(<< "The volume holds extent (" << extent[0] << ".." << extent[1] << ", "
+                    << extent[2] << ".." << extent[3] << ", " << extent[4] << ".." << extent[5]
+                    << ") of (" << whole[0] << ".." << whole[1] << ", " << whole[2] << ".."
+                    << whole[3] << ", " << whole[4] << ".." << whole[5]
+                    << "): its producer also feeds a branch that asked for a piece. Give the "
+                       "volume port a producer of its own (for example a second reader).");
+      return 1;
+    }
+  }
   if (!this->VolumeProperty)
   {
     vtkErrorMacro(<< "No volume property: SetVolumeProperty().");

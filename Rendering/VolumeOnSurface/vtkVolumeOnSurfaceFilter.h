@@ -43,7 +43,11 @@
  * alike on every piece that holds it); the volume is requested whole on
  * every piece, since a vertex's rays leave the piece's part of the volume:
  * each piece's colours equal those of the whole surface, at the cost of the
- * whole volume's memory per process.
+ * whole volume's memory per process. The volume port needs a producer of
+ * its own: when the same output also feeds the surface's branch (reader ->
+ * contour), that branch's piece request replaces the whole one (an output
+ * holds one request per update) and the filter reports an error instead of
+ * casting rays through a piece.
  *
  * @sa vtkAdaptiveVolumeMapper vtkOpenMeshDecimation
  */

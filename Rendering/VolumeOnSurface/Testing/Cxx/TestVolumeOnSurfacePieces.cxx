@@ -2,10 +2,13 @@
 // piece p of 2, it gets that piece of the surface (a sphere source's) but the
 // whole volume (an analytic source that would otherwise give half its
 // extent), so every vertex of every piece takes the colour it has on the
-// whole surface; the pieces together hold every vertex.
+// whole surface; the pieces together hold every vertex. A volume whose
+// producer also feeds the surface (a piece request replaces the whole one)
+// is reported.
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkContourFilter.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -122,5 +125,26 @@ int TestVolumeOnSurfacePieces(int, char*[])
   }
   Expect(pieces.size() == whole.size() && seen >= static_cast<long>(whole.size()),
     "the pieces hold every vertex");
+
+  // The volume's producer also feeding the surface (source -> contour ->
+  // filter): the contour's piece request replaces the whole one, and the
+  // filter says so instead of colouring with a piece of the volume.
+  {
+    vtkNew<vtkContourFilter> contour;
+    contour->SetInputConnection(volume->GetOutputPort());
+    contour->SetValue(0, 0.5);
+    vtkNew<vtkVolumeOnSurfaceFilter> shared;
+    shared->SetInputConnection(contour->GetOutputPort());
+    shared->SetVolumeConnection(volume->GetOutputPort());
+    shared->SetVolumeProperty(property);
+    shared->SetCamera(camera);
+    avostest::ExpectedErrors errors(shared);
+    shared->Update();
+    Expect(errors.None("shared producer, one piece"), "one piece: the whole volume, no error");
+    Expect(shared->GetOutput()->GetNumberOfPoints() > 0, "one piece: coloured");
+    shared->UpdatePiece(0, 2, 0);
+    Expect(errors.Check("shared producer, piece 0 of 2", "producer of its own"),
+      "a shared producer's piece is reported");
+  }
   return Expect.Result();
 }
