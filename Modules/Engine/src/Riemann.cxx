@@ -190,7 +190,10 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
 {
   const hn::ScalableTag<float> d;
   const int lanes = static_cast<int>(hn::Lanes(d));
-  HWY_ALIGN float alpha[MaximumLanes], r[MaximumLanes], g[MaximumLanes], b[MaximumLanes];
+  // Zeroed once per ray: Classify fills every lane before it is read, which
+  // the compiler cannot see through the bisection that sizes a vector.
+  HWY_ALIGN float alpha[MaximumLanes] = {}, r[MaximumLanes] = {}, g[MaximumLanes] = {},
+                  b[MaximumLanes] = {};
   HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
   const hn::ScalableTag<double> dd;
   const hn::Rebind<float, decltype(dd)> dfHalf;
@@ -213,16 +216,24 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
     {
       // The lanes' samples: consecutive indices, as long as they lie in the
       // segment (the first outside ends it: the same test, in double, as
-      // IntegrateRiemann's).
-      int used = 0;
-      for (; used < lanes; ++used)
+      // IntegrateRiemann's). t_i never decreases with i (a product by h > 0
+      // rounds monotonically, t_n = D is the largest), so the last index in
+      // the segment is found by bisection, after one test in the usual case
+      // of a vector wholly inside.
+      auto inside = [&](long i)
+      { return (i == n ? D : std::min(double(i) * h, D)) <= segments[j].End; };
+      long last = std::min(next + lanes - 1, n); // the last index inside
+      if (!inside(last))
       {
-        const long i = next + used;
-        if (i > n || (i == n ? D : std::min(double(i) * h, D)) > segments[j].End)
+        long below = next - 1; // inside, or before the vector
+        while (last - below > 1)
         {
-          break;
+          const long middle = below + (last - below) / 2;
+          (inside(middle) ? below : last) = middle;
         }
+        last = below;
       }
+      const int used = static_cast<int>(last - next + 1);
       if (used == 0)
       {
         break;
