@@ -30,6 +30,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/EmptySpace.h"
+#include "avos/engine/PixelRays.h"
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/Accumulation.h"
 #include "avos/numerics/Clipping.h"
@@ -107,38 +108,26 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
   return r;
 }
 
-glm::dvec3 ToPoint(const glm::dvec4& p)
+// The engine's view of the frame's rays (on the frame's own depth buffer).
+avos::engine::FrameRays RaysOf(const FrameGeometry& g)
 {
-  return glm::dvec3(p) / p.w;
+  avos::engine::FrameRays rays;
+  std::copy(g.NDCToWorld, g.NDCToWorld + 16, rays.NDCToWorld);
+  std::copy(g.WorldToGrid, g.WorldToGrid + 16, rays.WorldToGrid);
+  rays.Voxel = g.Voxel;
+  std::copy(g.Dimensions, g.Dimensions + 3, rays.Dimensions);
+  rays.Width = g.Width;
+  rays.Height = g.Height;
+  rays.Depth = g.Depth.data();
+  return rays;
 }
 
-// The pixel's ray in grid coordinates, t in voxel units from the volume box's
-// entry, D the length inside the box (up to the depth buffer). False: miss.
+// The pixel's ray from its centre on the near plane to the depth buffer, in
+// grid coordinates (voxel units), clipped to the grid's box.
 bool PixelRay(
   const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction, double& D)
 {
-  const double nx = 2.0 * (x + 0.5) / g.Width - 1.0;
-  const double ny = 2.0 * (y + 0.5) / g.Height - 1.0;
-  const double depth = g.Depth[static_cast<std::size_t>(y) * g.Width + x];
-  const glm::dvec3 nearWorld = ToPoint(Multiply(g.NDCToWorld, glm::dvec4(nx, ny, -1.0, 1.0)));
-  const glm::dvec3 farWorld =
-    ToPoint(Multiply(g.NDCToWorld, glm::dvec4(nx, ny, 2.0 * depth - 1.0, 1.0)));
-  const double length = glm::length(farWorld - nearWorld) / g.Voxel;
-  if (!(length > 0.0) || !std::isfinite(length))
-  {
-    return false;
-  }
-  const glm::dvec3 nearGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(nearWorld, 1.0)));
-  const glm::dvec3 farGrid = glm::dvec3(Multiply(g.WorldToGrid, glm::dvec4(farWorld, 1.0)));
-  direction = (farGrid - nearGrid) / length;
-  double t0 = 0.0, t1 = length;
-  if (!an::ClipToGrid(nearGrid, direction, g.Dimensions, t0, t1))
-  {
-    return false;
-  }
-  origin = nearGrid + t0 * direction;
-  D = t1 - t0;
-  return true;
+  return avos::engine::PixelRay(RaysOf(g), x, y, &origin.x, &direction.x, D);
 }
 
 // The integration settings of one frame.
@@ -499,6 +488,7 @@ public:
     , Monitor(monitor)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
+    this->Rays = RaysOf(geometry);
   }
 
   // Tiles [begin, end) in row-major order over the cast rectangle. Once the
@@ -527,22 +517,8 @@ private:
   {
     static_assert(TileSize <= PacketSize, "a tile's row is one packet");
     PacketBuffers& packet = this->Packets.Local();
-    int count = 0;
-    for (int x = x0; x < x1; ++x)
-    {
-      glm::dvec3 origin, direction;
-      double D;
-      if (PixelRay(this->Geometry, x, y, origin, direction, D))
-      {
-        for (int a = 0; a < 3; ++a)
-        {
-          packet.Origins[3 * count + a] = origin[a];
-          packet.Directions[3 * count + a] = direction[a];
-        }
-        packet.Lengths[count] = D;
-        packet.X[count++] = x;
-      }
-    }
+    const int count = avos::engine::RowRays(this->Rays, y, x0, x1, packet.X.data(),
+      packet.Origins.data(), packet.Directions.data(), packet.Lengths.data());
     if (WalksSegments(this->Map, this->Settings))
     {
       avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
@@ -595,6 +571,7 @@ private:
   vtkSMPThreadLocal<RayBuffers>& Buffers;
   avos::WorkMonitor& Monitor;
   int TilesX = 0;
+  avos::engine::FrameRays Rays;
 
   // One packet's rays (origin and direction: three doubles each) and their
   // segments.
