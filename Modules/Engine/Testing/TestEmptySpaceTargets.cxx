@@ -7,7 +7,8 @@
 // components, empty rays, and packets of every size from 1 to 19 rays.
 #include "avos/engine/EmptySpace.h"
 
-#include "hwy/targets.h"
+#include "PatchVolume.h"
+#include "TargetTest.h"
 
 #include <gtest/gtest.h>
 
@@ -27,17 +28,9 @@ struct Ray
   double Length;
 };
 
-class PacketWalkTargets : public ::testing::TestWithParam<int64_t>
+class PacketWalkTargets : public avostest::TargetTest
 {
-protected:
-  void SetUp() override { hwy::SetSupportedTargetsForTest(this->GetParam()); }
-  void TearDown() override { hwy::SetSupportedTargetsForTest(0); }
 };
-
-std::string Name(const ::testing::TestParamInfo<int64_t>& info)
-{
-  return hwy::TargetName(info.param);
-}
 
 // 70 x 61 x 57 points: x < 30 all visible (whole superblocks), z > 44 zero
 // (superblocks of no visible block), random 5-cell patches elsewhere (some
@@ -45,21 +38,7 @@ std::string Name(const ::testing::TestParamInfo<int64_t>& info)
 an::EmptySpaceMap<double> MakeMap()
 {
   const int dims[3] = { 70, 61, 57 };
-  std::vector<std::uint8_t> data(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-  std::size_t n = 0;
-  for (int k = 0; k < dims[2]; ++k)
-  {
-    for (int j = 0; j < dims[1]; ++j)
-    {
-      for (int i = 0; i < dims[0]; ++i)
-      {
-        const unsigned patch =
-          static_cast<unsigned>((i / 5) * 73856093 ^ (j / 5) * 19349663 ^ (k / 5) * 83492791) %
-          256u;
-        data[n++] = static_cast<std::uint8_t>(i < 30 ? 255 : (k > 44 ? 0 : patch));
-      }
-    }
-  }
+  const std::vector<std::uint8_t> data = avostest::PatchVolume(dims, 5, 30, 44);
   an::TransferFunction<double> tf;
   tf.AddColorKnot(0, 1, 1, 1);
   tf.AddOpacityKnot(0, 0);
@@ -167,5 +146,4 @@ TEST_P(PacketWalkTargets, SegmentsAreTheScalarWalks)
   EXPECT_GT(several, compared / 10);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-  Engine, PacketWalkTargets, ::testing::ValuesIn(hwy::SupportedAndGeneratedTargets()), Name);
+AVOS_ENGINE_TARGETS(PacketWalkTargets);

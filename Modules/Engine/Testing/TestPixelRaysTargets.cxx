@@ -7,7 +7,7 @@
 // near plane itself; whole rows and runs that end inside a vector.
 #include "avos/engine/PixelRays.h"
 
-#include "hwy/targets.h"
+#include "TargetTest.h"
 
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -22,17 +22,9 @@ namespace ae = avos::engine;
 
 namespace
 {
-class PixelRaysTargets : public ::testing::TestWithParam<int64_t>
+class PixelRaysTargets : public avostest::TargetTest
 {
-protected:
-  void SetUp() override { hwy::SetSupportedTargetsForTest(this->GetParam()); }
-  void TearDown() override { hwy::SetSupportedTargetsForTest(0); }
 };
-
-std::string Name(const ::testing::TestParamInfo<int64_t>& info)
-{
-  return hwy::TargetName(info.param);
-}
 
 // Row-major copy of a glm (column-major) matrix.
 void RowMajor(const glm::dmat4& m, double out[16])
@@ -114,5 +106,4 @@ TEST_P(PixelRaysTargets, RowsAreThePixelRays)
   EXPECT_GT(misses, 500);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-  Engine, PixelRaysTargets, ::testing::ValuesIn(hwy::SupportedAndGeneratedTargets()), Name);
+AVOS_ENGINE_TARGETS(PixelRaysTargets);

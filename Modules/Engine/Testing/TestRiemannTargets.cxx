@@ -11,7 +11,7 @@
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
-#include "hwy/targets.h"
+#include "TargetTest.h"
 
 #include <gtest/gtest.h>
 
@@ -138,17 +138,9 @@ Worst Compare(const Scene& scene, unsigned count, double h, double terminationBo
   return worst;
 }
 
-class RiemannTargets : public ::testing::TestWithParam<int64_t>
+class RiemannTargets : public avostest::TargetTest
 {
-protected:
-  void SetUp() override { hwy::SetSupportedTargetsForTest(this->GetParam()); }
-  void TearDown() override { hwy::SetSupportedTargetsForTest(0); }
 };
-
-std::string Name(const ::testing::TestParamInfo<int64_t>& info)
-{
-  return hwy::TargetName(info.param);
-}
 } // namespace
 
 TEST_P(RiemannTargets, DispatchesToTheForcedTarget)
@@ -228,8 +220,7 @@ TEST_P(RiemannTargets, EqualsTheDoubleSumWithTermination)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-  Engine, RiemannTargets, ::testing::ValuesIn(hwy::SupportedAndGeneratedTargets()), Name);
+AVOS_ENGINE_TARGETS(RiemannTargets);
 
 // The kernels refuse what their 32-bit indices cannot address.
 TEST(Riemann, Validate)

@@ -6,6 +6,8 @@
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
+#include "PatchVolume.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -250,27 +252,13 @@ TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)
 // Segments() walks superblocks and enters only the partly visible ones: on
 // a volume with superblocks of every kind (x < 34 visible: superblocks 0 and
 // 1 along x all visible; z > 44 zero: those at x, z >= 48 none visible; 6-cell
-// patches of random values elsewhere, not aligned with the blocks), a point of a ray lies in a segment exactly when the
-// block holding it is visible (points within 2e-6 of a block face, where
+// patches of random values elsewhere, not aligned with the blocks), a point of a ray lies in a
+// segment exactly when the block holding it is visible (points within 2e-6 of a block face, where
 // the pad decides, are not asked).
 TEST(EmptySpace, SegmentsAreExactlyTheVisibleBlocks)
 {
   const int dims[3] = { 97, 81, 65 };
-  std::vector<std::uint8_t> data(static_cast<std::size_t>(dims[0]) * dims[1] * dims[2]);
-  std::size_t n = 0;
-  for (int k = 0; k < dims[2]; ++k)
-  {
-    for (int j = 0; j < dims[1]; ++j)
-    {
-      for (int i = 0; i < dims[0]; ++i)
-      {
-        const unsigned patch =
-          static_cast<unsigned>((i / 6) * 73856093 ^ (j / 6) * 19349663 ^ (k / 6) * 83492791) %
-          256u;
-        data[n++] = static_cast<std::uint8_t>(i < 34 ? 255 : (k > 44 ? 0 : patch));
-      }
-    }
-  }
+  const std::vector<std::uint8_t> data = avostest::PatchVolume(dims, 6, 34, 44);
   TransferFunction<double> tf;
   tf.AddColorKnot(0, 1, 1, 1);
   tf.AddOpacityKnot(0, 0);
