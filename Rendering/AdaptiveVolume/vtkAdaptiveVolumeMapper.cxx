@@ -55,19 +55,23 @@ namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
 using Segments = std::vector<an::Interval<double>>;
 
+constexpr int TileSize = 16;
+
 // A thread's scratch lists for one ray: the visible segments, the part the
 // clipping planes and cropping keep, and their intersection; the blocks'
-// parts of the ray for the intensity projections.
+// parts of the ray for the intensity projections. And for a tile's row of
+// rays, set up and walked through the empty-space map at once
+// (avos/engine/PixelRays.h, EmptySpace.h): their pixels, origins and
+// directions (three doubles each), lengths and segments.
 struct RayBuffers
 {
   Segments Visible, Kept, Clipped;
   std::vector<an::EmptySpaceMap<double>::Span> Spans;
+  std::array<int, TileSize> RowX;
+  std::array<double, 3 * TileSize> RowOrigins, RowDirections;
+  std::array<double, TileSize> RowLengths;
+  std::array<Segments, TileSize> RowSegments;
 };
-
-constexpr int TileSize = 16;
-// Rays walked through the empty-space map at once (avos/engine/EmptySpace.h):
-// a tile's row.
-constexpr int PacketSize = TileSize;
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
 constexpr double SegmentPad = 1e-6;
@@ -511,31 +515,28 @@ public:
   }
 
 private:
-  // Pixels [x0, x1) of row y (at most PacketSize): the rays that meet the
-  // box, their segments walked as one packet.
+  // Pixels [x0, x1) of row y (at most a tile's width): the rays that meet
+  // the box, set up and walked through the empty-space map as one packet.
   void CastRow(int x0, int x1, int y, ThreadStatistics& stats, RayBuffers& buffers)
   {
-    static_assert(TileSize <= PacketSize, "a tile's row is one packet");
-    PacketBuffers& packet = this->Packets.Local();
-    const int count = avos::engine::RowRays(this->Rays, y, x0, x1, packet.X.data(),
-      packet.Origins.data(), packet.Directions.data(), packet.Lengths.data());
+    const int count = avos::engine::RowRays(this->Rays, y, x0, x1, buffers.RowX.data(),
+      buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
     if (WalksSegments(this->Map, this->Settings))
     {
       avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
-        packet.Origins.data(), packet.Directions.data(), packet.Lengths.data(), SegmentPad,
-        packet.Parts.data());
+        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
+        SegmentPad, buffers.RowSegments.data());
     }
     for (int i = 0; i < count; ++i)
     {
-      std::swap(buffers.Visible, packet.Parts[i]);
-      const glm::dvec3 origin(
-        packet.Origins[3 * i], packet.Origins[3 * i + 1], packet.Origins[3 * i + 2]);
-      const glm::dvec3 direction(
-        packet.Directions[3 * i], packet.Directions[3 * i + 1], packet.Directions[3 * i + 2]);
+      std::swap(buffers.Visible, buffers.RowSegments[i]);
+      const double* o = &buffers.RowOrigins[3 * i];
+      const double* d = &buffers.RowDirections[3 * i];
       an::RayResult<double> result;
-      IntegrateRay(this->Volume, this->Geometry, this->TF, this->Map, this->Settings, origin,
-        direction, packet.Lengths[i], buffers, result);
-      this->Store(packet.X[i], y, result, stats);
+      IntegrateRay(this->Volume, this->Geometry, this->TF, this->Map, this->Settings,
+        glm::dvec3(o[0], o[1], o[2]), glm::dvec3(d[0], d[1], d[2]), buffers.RowLengths[i], buffers,
+        result);
+      this->Store(buffers.RowX[i], y, result, stats);
     }
   }
 
@@ -572,17 +573,6 @@ private:
   avos::WorkMonitor& Monitor;
   int TilesX = 0;
   avos::engine::FrameRays Rays;
-
-  // One packet's rays (origin and direction: three doubles each) and their
-  // segments.
-  struct PacketBuffers
-  {
-    std::array<double, 3 * PacketSize> Origins, Directions;
-    std::array<double, PacketSize> Lengths;
-    std::array<int, PacketSize> X;
-    std::array<Segments, PacketSize> Parts;
-  };
-  vtkSMPThreadLocal<PacketBuffers> Packets;
 };
 
 } // namespace
