@@ -2,7 +2,9 @@
 # Builds the AVoS ParaView plugin against Debian's ParaView 5.11 and tests it:
 # pvpython loads it and runs reader -> contour -> decimation, then pvbatch on
 # 2 and 4 MPI ranks runs the same (each rank prints its work) and the totals
-# are compared with the one-process run (Plugin/Testing/ComparePieces.py).
+# are compared with the one-process run (Plugin/Testing/ComparePieces.py);
+# then the time and memory per rank on a larger volume are printed
+# (Plugin/Testing/Scaling.py: figures, not assertions).
 #
 # python3-paraview conflicts with python3-vtk9 (both install vtkmodules), and
 # paraview-dev's CMake files need it: this script installs ParaView's
@@ -46,3 +48,10 @@ for ranks in 2 4; do
 done
 python3 "$root/Plugin/Testing/ComparePieces.py" "$out"/ranks-{1,2,4}.json
 echo "ParaView plugin tests passed"
+
+# Figures, not assertions: time and peak memory per rank on a 160^3 volume.
+echo "== scaling (Plugin/Testing/Scaling.py, 160^3 Marschner-Lobb)"
+for ranks in 1 2 4; do
+  xvfb-run -a mpiexec --allow-run-as-root --oversubscribe -n "$ranks" \
+    pvbatch --symmetric "$root/Plugin/Testing/Scaling.py" "$plugin" 160 "$out/scaling.jsonl"
+done
