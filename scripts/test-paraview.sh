@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Builds the AVoS ParaView plugin against Debian's ParaView 5.11 and tests it:
-# pvpython loads it and runs reader -> contour -> decimation, then pvbatch on
-# 2 and 4 MPI ranks runs the same (each rank prints its work) and the totals
-# are compared with the one-process run (Plugin/Testing/ComparePieces.py);
-# then the time and memory per rank on a larger volume are printed
-# (Plugin/Testing/Scaling.py: figures, not assertions).
+# pvpython loads it and runs reader -> contour -> decimation (and Volume on
+# Surface), then pvbatch on 2 and 4 MPI ranks runs the same (each rank prints
+# its work) and the totals are compared with the one-process run
+# (Plugin/Testing/ComparePieces.py); pvpython turns a .tf1d file into a
+# preset (Tf1dPreset.py); then the time and memory per rank on a larger
+# volume are printed (Plugin/Testing/Scaling.py: figures, not assertions).
 #
 # python3-paraview conflicts with python3-vtk9 (both install vtkmodules), and
 # paraview-dev's CMake files need it: this script installs ParaView's
@@ -47,6 +48,9 @@ for ranks in 2 4; do
     pvbatch --symmetric "$script" "$plugin" "$data" "$out/ranks-$ranks.json"
 done
 python3 "$root/Plugin/Testing/ComparePieces.py" "$out"/ranks-{1,2,4}.json
+echo "== a .tf1d file as a ParaView preset"
+xvfb-run -a pvpython "$root/Plugin/Testing/Tf1dPreset.py" "$plugin" \
+  "$data/tf/Bonsai.1.256x256x256.linear.tf1d" "$out"
 echo "ParaView plugin tests passed"
 
 # Figures, not assertions: time and peak memory per rank on a 160^3 volume.

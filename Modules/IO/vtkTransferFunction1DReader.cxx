@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <locale>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -321,6 +323,75 @@ bool vtkTransferFunction1DReader::FillVolumeProperty(vtkVolumeProperty* property
   }
   property->SetColor(color);
   property->SetScalarOpacity(opacity);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkTransferFunction1DReader::GetParaViewPreset(const char* name)
+{
+  vtkNew<vtkVolumeProperty> property;
+  if (!this->FillVolumeProperty(property))
+  {
+    return std::string();
+  }
+  std::ostringstream json;
+  json.imbue(std::locale::classic()); // a decimal point whatever the user's locale
+  json.precision(17);
+  // The name as a JSON string: quotes, backslashes and control characters
+  // escaped.
+  json << "[\n  {\n    \"Name\": \"";
+  for (const char* c = name ? name : ""; *c; ++c)
+  {
+    const unsigned char u = static_cast<unsigned char>(*c);
+    if (u == '"' || u == '\\')
+    {
+      json << '\\' << *c;
+    }
+    else if (u < 0x20)
+    {
+      json << "\\u00"
+           << "0123456789abcdef"[u >> 4] << "0123456789abcdef"[u & 15];
+    }
+    else
+    {
+      json << *c;
+    }
+  }
+  json << "\",\n    \"ColorSpace\": \"RGB\",\n    \"RGBPoints\": [";
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction();
+  double node[6];
+  for (int i = 0; i < color->GetSize(); ++i)
+  {
+    color->GetNodeValue(i, node);
+    json << (i ? ", " : "") << node[0] << ", " << node[1] << ", " << node[2] << ", " << node[3];
+  }
+  json << "],\n    \"Points\": [";
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity();
+  for (int i = 0; i < opacity->GetSize(); ++i)
+  {
+    opacity->GetNodeValue(i, node);
+    json << (i ? ", " : "") << node[0] << ", " << node[1] << ", " << node[2] << ", " << node[3];
+  }
+  json << "]\n  }\n]\n";
+  return json.str();
+}
+
+//------------------------------------------------------------------------------
+bool vtkTransferFunction1DReader::WriteParaViewPreset(const char* fileName, const char* name)
+{
+  const std::string preset = this->GetParaViewPreset(name);
+  if (preset.empty())
+  {
+    return false;
+  }
+  std::ofstream out(fileName ? fileName : "");
+  out << preset;
+  out.close();
+  if (!out)
+  {
+    vtkErrorMacro(<< "Cannot write the preset to '" << (fileName ? fileName : "") << "'.");
+    return false;
+  }
   return true;
 }
 

@@ -116,6 +116,20 @@ public:
    */
   bool FillVolumeProperty(vtkVolumeProperty* property);
 
+  ///@{
+  /**
+   * Update(), then the knots as a ParaView colour-map preset named `name`
+   * (JSON, the format of ParaView's "Import Presets" and ImportPresets()):
+   * RGBPoints from the colour knots, Points from the opacity knots in the
+   * current OpacityModel (in VTK's, alpha per UnitDistance: set the volume
+   * representation's ScalarOpacityUnitDistance to it). Numbers are written
+   * with 17 significant digits, so the knots come back exactly. Empty, or
+   * false for WriteParaViewPreset, on a read or write error (reported).
+   */
+  std::string GetParaViewPreset(const char* name);
+  bool WriteParaViewPreset(const char* fileName, const char* name);
+  ///@}
+
 protected:
   vtkTransferFunction1DReader();
   ~vtkTransferFunction1DReader() override;

@@ -2,6 +2,8 @@
 Python: a .tf1d and a raw volume from the shared data when present, else
 files written here."""
 
+import json
+import math
 import os
 import tempfile
 
@@ -30,6 +32,32 @@ class TestReadersPython(Testing.vtkTest):
         self.assertEqual(reader.GetColorTransferFunction().GetSize(), 5)
         self.assertEqual(reader.GetExtinctionFunction().GetSize(), 6)
         self.assertEqual(reader.GetExtinctionFunction().GetValue(60.0), 0.2)
+
+        # As a ParaView preset: every knot back exactly, the opacity in the
+        # reader's model (VTK's: alpha = 1 - exp(-tau)), the name escaped.
+        reader.SetOpacityModelToVTK()
+        name = 'Bonsai "AVoS" \\ 1'
+        preset = json.loads(reader.GetParaViewPreset(name))
+        self.assertEqual(len(preset), 1)
+        self.assertEqual(preset[0]["Name"], name)
+        self.assertEqual(preset[0]["ColorSpace"], "RGB")
+        colours, opacity = preset[0]["RGBPoints"], preset[0]["Points"]
+        ctf, tau = reader.GetColorTransferFunction(), reader.GetExtinctionFunction()
+        self.assertEqual(len(colours), 4 * ctf.GetSize())
+        self.assertEqual(len(opacity), 4 * tau.GetSize())
+        node = [0.0] * 6  # x, r, g, b, midpoint, sharpness
+        for i in range(ctf.GetSize()):
+            ctf.GetNodeValue(i, node)
+            self.assertEqual(colours[4 * i:4 * i + 4], node[:4])
+        node = [0.0] * 4  # x, tau, midpoint, sharpness
+        for i in range(tau.GetSize()):
+            tau.GetNodeValue(i, node)
+            self.assertEqual(opacity[4 * i], node[0])
+            self.assertEqual(opacity[4 * i + 1], -math.expm1(-node[1]))
+        out = os.path.join(tempfile.mkdtemp(), "preset.json")
+        self.assertTrue(reader.WriteParaViewPreset(out, name))
+        with open(out) as f:
+            self.assertEqual(json.load(f), preset)
 
     def test_raw_volume(self):
         path = os.path.join(Testing.VTK_DATA_ROOT, "volumes", "Fuel.1.64x64x64.raw")
