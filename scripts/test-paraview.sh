@@ -3,9 +3,12 @@
 # pvpython loads it and runs reader -> contour -> decimation (and Volume on
 # Surface), then pvbatch on 2 and 4 MPI ranks runs the same (each rank prints
 # its work) and the totals are compared with the one-process run
-# (Plugin/Testing/ComparePieces.py); pvpython turns a .tf1d file into a
-# preset (Tf1dPreset.py); then the time and memory per rank on a larger
-# volume are printed (Plugin/Testing/Scaling.py: figures, not assertions).
+# (Plugin/Testing/ComparePieces.py); volume images with the "AVoS Volume"
+# representation on 1, 2 and 4 ranks against the one-process image, within
+# what ParaView's compositing costs its own mapper (VolumeImages.py);
+# pvpython turns a .tf1d file into a preset (Tf1dPreset.py); then the time
+# and memory per rank on a larger volume are printed (Plugin/Testing/
+# Scaling.py: figures, not assertions).
 #
 # python3-paraview conflicts with python3-vtk9 (both install vtkmodules), and
 # paraview-dev's CMake files need it: this script installs ParaView's
@@ -48,6 +51,16 @@ for ranks in 2 4; do
     pvbatch --symmetric "$script" "$plugin" "$data" "$out/ranks-$ranks.json"
 done
 python3 "$root/Plugin/Testing/ComparePieces.py" "$out"/ranks-{1,2,4}.json
+echo "== volume images: AVoS Volume against ParaView's own, on 1, 2 and 4 ranks"
+image="$root/Plugin/Testing/VolumeImage.py"
+for ranks in 1 2 4; do
+  xvfb-run -a mpiexec --allow-run-as-root --oversubscribe -n "$ranks" \
+    pvbatch "$image" "$plugin" "$data" "$out/avos-$ranks.png" "AVoS Volume"
+  xvfb-run -a mpiexec --allow-run-as-root --oversubscribe -n "$ranks" \
+    pvbatch "$image" "$plugin" "$data" "$out/paraview-$ranks.png" "Volume"
+done
+xvfb-run -a pvbatch "$image" "$plugin" "$data" "$out/avos-riemann.png" "AVoS Volume" Riemann
+/usr/bin/python3 "$root/Plugin/Testing/VolumeImages.py" "$out"
 echo "== a .tf1d file as a ParaView preset"
 xvfb-run -a pvpython "$root/Plugin/Testing/Tf1dPreset.py" "$plugin" \
   "$data/tf/Bonsai.1.256x256x256.linear.tf1d" "$out"
