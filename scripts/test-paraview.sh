@@ -34,7 +34,7 @@ trap restore EXIT
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends \
-  paraview paraview-dev python3-paraview openmpi-bin xvfb xauth \
+  paraview paraview-dev python3-paraview python3-numpy openmpi-bin xvfb xauth \
   libopenmesh-dev libglm-dev libhwy-dev cmake build-essential >/dev/null
 
 cmake -S "$root/Plugin" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
