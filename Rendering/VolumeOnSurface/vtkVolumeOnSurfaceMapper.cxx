@@ -27,6 +27,7 @@
 
 #include "avosVolumeRay.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <limits>
@@ -77,11 +78,17 @@ struct VertexView
       m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15]);
   }
 
+  // The unit direction from p towards the eye.
+  glm::dvec3 Line(const glm::dvec3& p) const
+  {
+    return this->Parallel ? this->TowardsEye : glm::normalize(this->Eye - p);
+  }
+
   // True when the vertex at p with normal n is cast; `line` its unit
   // direction towards the eye.
   bool Casts(const glm::dvec3& p, const glm::dvec3& n, glm::dvec3& line) const
   {
-    line = this->Parallel ? this->TowardsEye : glm::normalize(this->Eye - p);
+    line = this->Line(p);
     const glm::dvec4 c = this->Clip(p);
     return glm::dot(n, line) > 0.0 && c.w > 0.0 && std::abs(c.x) <= c.w && std::abs(c.y) <= c.w &&
       std::abs(c.z) <= c.w;
@@ -100,6 +107,24 @@ struct VertexView
   }
 };
 
+// For each vertex of `surface`, whether `view` casts it (1) or not (0).
+std::vector<unsigned char> CastVertices(vtkPolyData* surface, const VertexView& view)
+{
+  const vtkIdType n = surface->GetNumberOfPoints();
+  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  std::vector<unsigned char> cast(static_cast<std::size_t>(n));
+  vtkSMPTools::For(0, n,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType v = begin; v < end; ++v)
+      {
+        glm::dvec3 point, line;
+        cast[static_cast<std::size_t>(v)] = view.Casts(surface, normals, v, point, line) ? 1 : 0;
+      }
+    });
+  return cast;
+}
+
 // Covered pixels per cast vertex of `surface` on a width x height viewport:
 // the window area of its front-facing polygons with a vertex in the frustum,
 // over its vertices that get a ray. Hidden layers count in both, so the
@@ -108,9 +133,8 @@ struct VertexView
 double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int width, int height)
 {
   const vtkIdType n = surface->GetNumberOfPoints();
-  vtkDataArray* normals = surface->GetPointData()->GetNormals();
+  const std::vector<unsigned char> cast = CastVertices(surface, view);
   std::vector<glm::dvec2> window(static_cast<std::size_t>(n));
-  std::vector<unsigned char> cast(static_cast<std::size_t>(n));
   std::atomic<vtkIdType> count(0);
   vtkSMPTools::For(0, n,
     [&](vtkIdType begin, vtkIdType end)
@@ -118,11 +142,11 @@ double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int w
       vtkIdType local = 0;
       for (vtkIdType v = begin; v < end; ++v)
       {
-        glm::dvec3 point, line;
         const std::size_t i = static_cast<std::size_t>(v);
-        cast[i] = view.Casts(surface, normals, v, point, line) ? 1 : 0;
         local += cast[i];
-        const glm::dvec4 c = view.Clip(point);
+        double p[3];
+        surface->GetPoint(v, p);
+        const glm::dvec4 c = view.Clip(glm::dvec3(p[0], p[1], p[2]));
         // Behind the eye: no window position, and its polygons are skipped.
         window[i] = c.w > 0.0
           ? glm::dvec2((0.5 * c.x / c.w + 0.5) * width, (0.5 * c.y / c.w + 0.5) * height)
@@ -199,8 +223,35 @@ bool DepthWith(vtkRenderer* ren, Draw&& draw, std::vector<float>& depth, int are
       area[0], area[1], area[0] + area[2] - 1, area[1] + area[3] - 1, depth.data()) != 0;
 }
 
+// The polygons of `surface` with a corner in `cast`, into `shown`. The
+// others have no colour, every corner transparent black: drawn, they would
+// cost the draw (most of a frame in software OpenGL) to put black over
+// whatever lies behind them, which on a closed surface hides them anyway.
+void ShownPolygons(
+  vtkPolyData* surface, const std::vector<unsigned char>& cast, vtkCellArray* shown)
+{
+  shown->Reset();
+  surface->GetPolys()->Visit(
+    [&](auto& state)
+    {
+      for (vtkIdType cell = 0; cell < state.GetNumberOfCells(); ++cell)
+      {
+        const auto ids = state.GetCellRange(cell);
+        if (std::any_of(ids.begin(), ids.end(),
+              [&](vtkIdType id) { return cast[static_cast<std::size_t>(id)] != 0; }))
+        {
+          shown->InsertNextCell(static_cast<int>(ids.size()));
+          for (const auto id : ids)
+          {
+            shown->InsertCellPoint(id);
+          }
+        }
+      }
+    });
+}
+
 // The vertices of `surface` that need a ray after a depth pass: those `view`
-// casts that are not hidden, and every vertex sharing a polygon with one, so
+// casts (`cast`) that are not hidden, and every vertex sharing a polygon with one, so
 // that a polygon with a visible corner is coloured whole. Hidden: at each
 // pixel of the 3 x 3 around the vertex the depth buffer holds something
 // more than `margin` (world units along the view direction) in front of it.
@@ -209,10 +260,10 @@ bool DepthWith(vtkRenderer* ren, Draw&& draw, std::vector<float>& depth, int are
 // projection (eye to clip coordinates, row-major): it turns window depths
 // into distances.
 std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView& view,
-  const double* P, const std::vector<float>& depth, const int area[4], double margin)
+  const std::vector<unsigned char>& cast, const double* P, const std::vector<float>& depth,
+  const int area[4], double margin)
 {
   const vtkIdType n = surface->GetNumberOfPoints();
-  vtkDataArray* normals = surface->GetPointData()->GetNormals();
   // Distance in front of the eye of an NDC depth (-1 near, 1 far).
   auto distance = [P](double z) { return -(P[11] - z * P[15]) / (z * P[14] - P[10]); };
   const int w = area[2], h = area[3];
@@ -222,12 +273,13 @@ std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView
     {
       for (vtkIdType v = begin; v < end; ++v)
       {
-        glm::dvec3 point, line;
-        if (!view.Casts(surface, normals, v, point, line))
+        if (!cast[static_cast<std::size_t>(v)])
         {
           continue;
         }
-        const glm::dvec4 c = view.Clip(point);
+        double p[3];
+        surface->GetPoint(v, p);
+        const glm::dvec4 c = view.Clip(glm::dvec3(p[0], p[1], p[2]));
         const double own = distance(c.z / c.w) - margin;
         const int px = static_cast<int>(std::floor((0.5 * c.x / c.w + 0.5) * w));
         const int py = static_cast<int>(std::floor((0.5 * c.y / c.w + 0.5) * h));
@@ -296,6 +348,10 @@ public:
   vtkNew<vtkPolyData> Drawn;
   vtkNew<vtkUnsignedCharArray> Colors;
   vtkNew<vtkUnsignedCharArray> Display; // their RGB: what is drawn, opaque
+  // What the delegate draws: the drawn level's points and colours, and only
+  // its polygons with a cast corner for the view `Key` (ShownPolygons).
+  vtkNew<vtkPolyData> Shown;
+  vtkNew<vtkCellArray> ShownPolys;
   int GeometryLevel = -1;
   vtkSmartPointer<vtkPolyDataMapper> Delegate;
 };
@@ -579,7 +635,6 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
       : nullptr;
     vtkPolyData* s = level.Surface;
-    vtkDataArray* normals = s->GetPointData()->GetNormals();
     // A new level's colour arrays start black: the depth pass below draws
     // them before they are written.
     if (in.GeometryLevel != levelIndex)
@@ -595,9 +650,13 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       in.Display->SetNumberOfTuples(s->GetNumberOfPoints());
       in.Display->Fill(0);
       in.Drawn->GetPointData()->AddArray(in.Display);
-      in.Delegate->SetInputData(in.Drawn);
+      in.Shown->ShallowCopy(in.Drawn);
+      in.Shown->SetPolys(in.ShownPolys);
+      in.Delegate->SetInputData(in.Shown);
       in.GeometryLevel = levelIndex;
     }
+    const std::vector<unsigned char> cast = CastVertices(s, view);
+    ShownPolygons(s, cast, in.ShownPolys);
     in.Delegate->SetClippingPlanes(this->ClippingPlanes);
 
     // The depth pass: DEPTH always; AUTO when the rays it saved last time
@@ -623,7 +682,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       {
         vtkMatrix4x4* eyeToClip =
           camera->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-        needed = NeededVertices(s, view, eyeToClip->GetData(), depth, area,
+        needed = NeededVertices(s, view, cast, eyeToClip->GetData(), depth, area,
           std::max({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
         this->LastDepthPass = 1;
       }
@@ -646,8 +705,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
           for (vtkIdType v = begin; v < end; ++v)
           {
             const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
-            glm::dvec3 point, line;
-            if (!view.Casts(s, normals, v, point, line))
+            if (!cast[static_cast<std::size_t>(v)])
             {
               continue;
             }
@@ -662,8 +720,11 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
               ++localReused;
               continue;
             }
+            double p[3];
+            s->GetPoint(v, p);
+            const glm::dvec3 point(p[0], p[1], p[2]);
             const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
-            const auto ray = caster.Cast(point, line, reach);
+            const auto ray = caster.Cast(point, view.Line(point), reach);
             if (!ray.Error.empty())
             {
               failures.Add(ray.Error);

@@ -11,8 +11,10 @@
  * RGB (premultiplied: the volume in front over black, as a ray cast shows
  * it). Visible means front-facing (with respect to the point normals, which
  * the surface must have) and inside the view frustum; other vertices cost
- * nothing and stay transparent black. Vertices are processed with
- * vtkSMPTools.
+ * nothing and stay transparent black, and a polygon with no visible corner
+ * is not drawn (nothing would colour it: on a closed surface it is hidden
+ * anyway; through an open one, what lies behind shows instead of black).
+ * Vertices are processed with vtkSMPTools.
  *
  * Levels of detail: the surface is decimated with vtkOpenMeshDecimation to
  * each of LevelOfDetailReductions (default 0, 0.5, 0.9; built once per
@@ -200,9 +202,9 @@ public:
   ///@}
 
   /**
-   * The surface drawn by the last render (the chosen level of detail) with
-   * its "VoSColors" (unsigned char RGBA, the active scalars), their RGB
-   * "VoSDisplayColors" (what is drawn) and, for decimated levels,
+   * The level of detail the last render coloured (all its polygons, drawn
+   * or not) with its "VoSColors" (unsigned char RGBA, the active scalars),
+   * their RGB "VoSDisplayColors" (what is drawn) and, for decimated levels,
    * "vtkOriginalPointIds".
    */
   vtkPolyData* GetColoredSurface();

@@ -6,7 +6,10 @@
 // polygons with visible vertices), every
 // other vertex gets the colour it gets without the pass, and the image is the
 // same to the byte: what the pass leaves uncoloured is hidden. Then AUTOMATIC
-// draws the pass on its first frame, to measure it.
+// draws the pass on its first frame, to measure it. Last, polygons with no
+// cast corner are not drawn: with the upper grid turned away from the eye
+// (no vertex of it cast), the image is the lower grid's alone, to the byte,
+// where drawing it would put black over the lower grid's left half.
 #include "vtkActor.h"
 #include "vtkAppendPolyData.h"
 #include "vtkCamera.h"
@@ -20,6 +23,7 @@
 #include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkReverseSense.h"
 #include "vtkTriangleFilter.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumeOnSurfaceMapper.h"
@@ -112,8 +116,8 @@ int TestVolumeOnSurfaceVisibility(int, char*[])
     actor->SetMapper(m);
     window->Render();
     vtkDataArray* c = m->GetColoredSurface()->GetPointData()->GetScalars();
-    colours.resize(static_cast<std::size_t>(4 * n));
-    for (vtkIdType v = 0; v < n; ++v)
+    colours.resize(static_cast<std::size_t>(4 * c->GetNumberOfTuples()));
+    for (vtkIdType v = 0; v < c->GetNumberOfTuples(); ++v)
     {
       for (int k = 0; k < 4; ++k)
       {
@@ -185,5 +189,34 @@ int TestVolumeOnSurfaceVisibility(int, char*[])
   render(fresh, vtkVolumeOnSurfaceMapper::AUTOMATIC_VISIBILITY, depthColours, depthImage);
   Expect(fresh->GetLastDepthPass() && depthImage == offImage,
     "automatic: the first frame measures the pass, same image");
+
+  std::vector<unsigned char> aloneColours, aloneImage, turnedColours, turnedImage;
+  vtkNew<vtkTriangleFilter> lowerTriangles;
+  lowerTriangles->SetInputConnection(lower->GetOutputPort());
+  vtkNew<vtkReverseSense> away;
+  away->SetInputConnection(upper->GetOutputPort());
+  away->ReverseCellsOn();
+  away->ReverseNormalsOn();
+  vtkNew<vtkAppendPolyData> turnedBoth;
+  turnedBoth->AddInputConnection(lower->GetOutputPort());
+  turnedBoth->AddInputConnection(away->GetOutputPort());
+  vtkNew<vtkTriangleFilter> turnedTriangles;
+  turnedTriangles->SetInputConnection(turnedBoth->GetOutputPort());
+  vtkNew<vtkVolumeOnSurfaceMapper> alone, turned;
+  alone->SetInputConnection(lowerTriangles->GetOutputPort());
+  turned->SetInputConnection(turnedTriangles->GetOutputPort());
+  for (vtkVolumeOnSurfaceMapper* m : { alone.Get(), turned.Get() })
+  {
+    m->SetVolumeData(volume);
+    m->SetVolumeProperty(property);
+    m->SetLevelOfDetail(0);
+  }
+  render(alone, vtkVolumeOnSurfaceMapper::NO_VISIBILITY, aloneColours, aloneImage);
+  render(turned, vtkVolumeOnSurfaceMapper::NO_VISIBILITY, turnedColours, turnedImage);
+  Expect(turned->GetNumberOfRaysCast() == lowerCount &&
+      turned->GetNumberOfVisibleVertices() == lowerCount,
+    "the turned grid's vertices get no ray");
+  Expect(turnedImage == aloneImage && aloneImage != offImage,
+    "polygons with no cast corner are not drawn: the lower grid shows through");
   return Expect.Result();
 }
