@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace
@@ -324,6 +325,12 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       vtkSMPTools::For(0, n,
         [&](vtkIdType begin, vtkIdType end)
         {
+          // A vertex's cone rays are cast together (their empty-space walks
+          // in SIMD lanes).
+          const std::size_t perVertex = static_cast<std::size_t>(raysPerVertex);
+          std::vector<glm::dvec3> starts(perVertex), directions(perVertex);
+          const std::vector<double> reaches(perVertex, std::numeric_limits<double>::infinity());
+          std::vector<avos::numerics::RayResult<double>> rays(perVertex);
           for (vtkIdType v = begin; v < end && !monitor.Aborted(); ++v, monitor.Finished(1))
           {
             double p[3], nv[3];
@@ -338,23 +345,28 @@ int vtkVolumeOnSurfaceFilter::RequestData(
             normal *= sign / length;
             glm::dvec3 u, w;
             Basis(normal, u, w);
-            std::size_t r = static_cast<std::size_t>(v) * raysPerVertex;
+            const std::size_t first = static_cast<std::size_t>(v) * perVertex;
+            std::size_t r = 0;
             for (double angle : in.Angles)
             {
               const double theta = vtkMath::RadiansFromDegrees(angle);
               for (int k = 0; k < perCone; ++k, ++r)
               {
                 const double phi = 2.0 * vtkMath::Pi() * k / perCone;
-                const glm::dvec3 d = std::cos(theta) * normal +
+                directions[r] = std::cos(theta) * normal +
                   std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * w);
-                in.Directions[r] = glm::fvec3(d);
-                const auto ray = caster.Cast(glm::dvec3(p[0], p[1], p[2]), d);
-                if (!ray.Error.empty())
-                {
-                  failures.Add(ray.Error);
-                }
-                in.Colors[r] = glm::fvec4(ray.RGBA);
+                starts[r] = glm::dvec3(p[0], p[1], p[2]);
               }
+            }
+            caster.Cast(perVertex, starts.data(), directions.data(), reaches.data(), rays.data());
+            for (r = 0; r < perVertex; ++r)
+            {
+              if (!rays[r].Error.empty())
+              {
+                failures.Add(rays[r].Error);
+              }
+              in.Directions[first + r] = glm::fvec3(directions[r]);
+              in.Colors[first + r] = glm::fvec4(rays[r].RGBA);
             }
           }
         });

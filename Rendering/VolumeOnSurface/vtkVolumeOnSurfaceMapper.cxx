@@ -702,6 +702,29 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
         [&](vtkIdType begin, vtkIdType end)
         {
           vtkIdType localRays = 0, localVisible = 0, localReused = 0, localHidden = 0;
+          // The rays go in batches, walked through the empty space together.
+          constexpr std::size_t batch = 64;
+          std::array<std::size_t, batch> ids;
+          std::array<glm::dvec3, batch> points, lines;
+          std::array<double, batch> reaches;
+          std::array<avos::numerics::RayResult<double>, batch> results;
+          std::size_t queued = 0;
+          auto flush = [&]()
+          {
+            caster.Cast(queued, points.data(), lines.data(), reaches.data(), results.data());
+            for (std::size_t i = 0; i < queued; ++i)
+            {
+              if (!results[i].Error.empty())
+              {
+                failures.Add(results[i].Error);
+                continue;
+              }
+              in.FullColors[ids[i]] = avos::ToBytes(results[i].RGBA);
+              in.Known[ids[i]] = 1;
+              ++localRays;
+            }
+            queued = 0;
+          };
           for (vtkIdType v = begin; v < end; ++v)
           {
             const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
@@ -723,17 +746,16 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
             double p[3];
             s->GetPoint(v, p);
             const glm::dvec3 point(p[0], p[1], p[2]);
-            const double reach = key.Parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
-            const auto ray = caster.Cast(point, view.Line(point), reach);
-            if (!ray.Error.empty())
+            ids[queued] = full;
+            points[queued] = point;
+            lines[queued] = view.Line(point);
+            reaches[queued] = key.Parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
+            if (++queued == batch)
             {
-              failures.Add(ray.Error);
-              continue;
+              flush();
             }
-            in.FullColors[full] = avos::ToBytes(ray.RGBA);
-            in.Known[full] = 1;
-            ++localRays;
           }
+          flush();
           rays += localRays;
           visible += localVisible;
           reused += localReused;
