@@ -2,16 +2,16 @@
 - the "AVoS Volume" representation renders with vtkAdaptiveVolumeMapper:
   its Riemann and piecewise images differ (only that mapper has the
   setting), and both differ from ParaView's own volume mapper's;
-- on 2 ranks its image equals the one-process image within what
+- on 2 and 4 ranks its image equals the one-process image within what
   ParaView's compositing of the pieces costs, measured on the same frames
   with ParaView's own volume mapper (its 1-rank against N-rank difference),
   plus 2/255 at most and 0.5/255 on average for the 8-bit quantisation of
   each rank's image;
-- the Volume-on-Surface surface on 2 ranks: its vertices' colours are
+- the Volume-on-Surface surface on 2 and 4 ranks: its vertices' colours are
   the one-process ones (PipelinePieces.py), so pixels may differ only where
   the pieces' border triangles meet (depth ties): at most 0.5 % of them.
-  python3 VolumeImages.py DIR   (DIR holding avos-{1,2}.png, avos-riemann.png,
-                                 paraview-{1,2}.png, surface-{1,2}.png)
+  python3 VolumeImages.py DIR   (DIR holding avos-{1,2,4}.png, avos-riemann.png,
+                                 paraview-{1,2,4}.png, surface-{1,2,4}.png)
 """
 
 import os
@@ -47,13 +47,13 @@ paraview = difference("avos-1.png", "paraview-1.png")
 check(riemann[1] > 0.0, "AVoS piecewise against AVoS Riemann: max %d, mean %.3f (/255)" % riemann)
 check(paraview[1] > 0.0, "AVoS against ParaView's mapper: max %d, mean %.3f" % paraview)
 check(load("avos-1.png").max() > 100, "the volume is visible")
-for ranks in (2,):
+for ranks in (2, 4):
     ours = difference("avos-1.png", "avos-%d.png" % ranks)
     theirs = difference("paraview-1.png", "paraview-%d.png" % ranks)
     check(ours[0] <= theirs[0] + 2 and ours[1] <= theirs[1] + 0.5,
           "%d ranks against 1: AVoS max %d, mean %.3f; ParaView's own max %d, mean %.3f" % (
               ranks, ours[0], ours[1], theirs[0], theirs[1]))
-for ranks in (2,):
+for ranks in (2, 4):
     d = abs(load("surface-1.png") - load("surface-%d.png" % ranks)).max(axis=1)
     share = float((d > 0).mean())
     check(share <= 0.005, "Volume on Surface, %d ranks against 1: %.3f %% of pixels differ "
