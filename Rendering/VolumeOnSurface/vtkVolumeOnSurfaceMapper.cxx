@@ -30,17 +30,184 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <functional>
 #include <limits>
+#include <queue>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace
 {
+using Colour = std::array<unsigned char, 4>;
+
+// How the full surface's vertices take their colours from a level's (whose
+// vertices are a subset of them): each other vertex from the level's
+// vertices nearest along the surface's edges to it and to its neighbours
+// (a multi-source Dijkstra: their Voronoi cells on the mesh), weighted by
+// the inverse of their distance, a convex combination of those colours.
+struct Spread
+{
+  std::vector<vtkIdType> Offsets; // per full vertex, into Sources and Weights; empty: not built
+  std::vector<vtkIdType> Sources; // full ids of the level's vertices
+  std::vector<double> Weights;
+
+  void Build(vtkPolyData* full, const std::vector<vtkIdType>& levelIds)
+  {
+    const vtkIdType n = full->GetNumberOfPoints();
+    std::vector<glm::dvec3> points(static_cast<std::size_t>(n));
+    for (vtkIdType v = 0; v < n; ++v)
+    {
+      double p[3];
+      full->GetPoint(v, p);
+      points[static_cast<std::size_t>(v)] = glm::dvec3(p[0], p[1], p[2]);
+    }
+    // Edges of the polygons, both ways, as adjacency lists (CSR).
+    std::vector<vtkIdType> first(static_cast<std::size_t>(n) + 1, 0), next;
+    auto edges = [&](auto&& visit)
+    {
+      full->GetPolys()->Visit(
+        [&](auto& state)
+        {
+          for (vtkIdType cell = 0; cell < state.GetNumberOfCells(); ++cell)
+          {
+            const auto ids = state.GetCellRange(cell);
+            const vtkIdType size = ids.size();
+            for (vtkIdType k = 0; k < size; ++k)
+            {
+              visit(static_cast<vtkIdType>(ids[k]), static_cast<vtkIdType>(ids[(k + 1) % size]));
+            }
+          }
+        });
+    };
+    edges(
+      [&](vtkIdType a, vtkIdType b)
+      {
+        ++first[static_cast<std::size_t>(a) + 1];
+        ++first[static_cast<std::size_t>(b) + 1];
+      });
+    for (std::size_t v = 0; v < static_cast<std::size_t>(n); ++v)
+    {
+      first[v + 1] += first[v];
+    }
+    std::vector<vtkIdType> fill(first.begin(), first.end() - 1);
+    std::vector<vtkIdType> neighbours(static_cast<std::size_t>(first.back()));
+    edges(
+      [&](vtkIdType a, vtkIdType b)
+      {
+        neighbours[static_cast<std::size_t>(fill[static_cast<std::size_t>(a)]++)] = b;
+        neighbours[static_cast<std::size_t>(fill[static_cast<std::size_t>(b)]++)] = a;
+      });
+    // The nearest level vertex of every vertex along the edges. Each vertex
+    // settles once (a distance only ever decreases), so the loop ends.
+    std::vector<double> distance(static_cast<std::size_t>(n), VTK_DOUBLE_MAX);
+    std::vector<vtkIdType> owner(static_cast<std::size_t>(n), -1);
+    using Entry = std::pair<double, vtkIdType>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    for (vtkIdType id : levelIds)
+    {
+      distance[static_cast<std::size_t>(id)] = 0.0;
+      owner[static_cast<std::size_t>(id)] = id;
+      queue.emplace(0.0, id);
+    }
+    while (!queue.empty())
+    {
+      const Entry top = queue.top();
+      queue.pop();
+      const std::size_t u = static_cast<std::size_t>(top.second);
+      if (top.first > distance[u])
+      {
+        continue;
+      }
+      for (vtkIdType k = first[u]; k < first[u + 1]; ++k)
+      {
+        const std::size_t w = static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)]);
+        const double through = top.first + glm::length(points[w] - points[u]);
+        if (through < distance[w])
+        {
+          distance[w] = through;
+          owner[w] = owner[u];
+          queue.emplace(through, static_cast<vtkIdType>(w));
+        }
+      }
+    }
+    // Each vertex: its own colour on the level, else the owners of it and
+    // of its neighbours (none in a part of the surface without a level
+    // vertex: such a vertex gets its own ray).
+    this->Offsets.assign(1, 0);
+    this->Sources.clear();
+    this->Weights.clear();
+    for (std::size_t u = 0; u < static_cast<std::size_t>(n); ++u)
+    {
+      const std::size_t begin = this->Sources.size();
+      auto add = [&](vtkIdType o)
+      {
+        if (o < 0 ||
+          std::find(this->Sources.begin() + static_cast<std::ptrdiff_t>(begin), this->Sources.end(),
+            o) != this->Sources.end())
+        {
+          return;
+        }
+        this->Sources.push_back(o);
+        const double d = glm::length(points[static_cast<std::size_t>(o)] - points[u]);
+        this->Weights.push_back(d > 0.0 ? 1.0 / d : 1.0);
+      };
+      if (distance[u] == 0.0)
+      {
+        add(owner[u]);
+      }
+      else
+      {
+        add(owner[u]);
+        for (vtkIdType k = first[u]; k < first[u + 1]; ++k)
+        {
+          add(owner[static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)])]);
+        }
+      }
+      this->Offsets.push_back(static_cast<vtkIdType>(this->Sources.size()));
+    }
+  }
+
+  // The weighted mean of the colours of v's sources that are known; false
+  // when none is.
+  bool Mean(vtkIdType v, const std::vector<Colour>& colours,
+    const std::vector<unsigned char>& known, Colour& mean) const
+  {
+    double sum[4] = { 0.0, 0.0, 0.0, 0.0 }, total = 0.0;
+    for (vtkIdType k = this->Offsets[static_cast<std::size_t>(v)];
+         k < this->Offsets[static_cast<std::size_t>(v) + 1]; ++k)
+    {
+      const std::size_t source =
+        static_cast<std::size_t>(this->Sources[static_cast<std::size_t>(k)]);
+      if (known[source])
+      {
+        const double w = this->Weights[static_cast<std::size_t>(k)];
+        for (int c = 0; c < 4; ++c)
+        {
+          sum[c] += w * colours[source][c];
+        }
+        total += w;
+      }
+    }
+    if (!(total > 0.0))
+    {
+      return false;
+    }
+    for (int c = 0; c < 4; ++c)
+    {
+      mean[c] = static_cast<unsigned char>(std::lround(std::min(sum[c] / total, 255.0)));
+    }
+    return true;
+  }
+};
+
 // A level of detail: the surface drawn, and for each of its vertices the id
 // of the same vertex on the full surface.
 struct Level
 {
   vtkSmartPointer<vtkPolyData> Surface;
   std::vector<vtkIdType> FullIds;
+  Spread FromLevel; // the full surface's colours from this level's (DrawFullSurface)
 };
 
 // What a vertex's colour depends on besides the vertex itself.
@@ -50,8 +217,9 @@ struct ViewKey
   std::array<double, 3> Eye{};
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
-  std::array<double, 6> Integration{}; // method, step, tolerance, extinction, skipping, visibility
-  std::vector<double> Planes;          // each clipping plane's origin and normal
+  // method, step, tolerance, extinction, skipping, visibility, full surface drawn
+  std::array<double, 7> Integration{};
+  std::vector<double> Planes; // each clipping plane's origin and normal
 
   bool operator==(const ViewKey& o) const
   {
@@ -315,6 +483,81 @@ std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView
     });
   return needed;
 }
+// Casts the rays of the full surface's vertices `ids` (distinct) into
+// `colours` and `known`, in parallel, in batches whose empty-space walks run
+// together; returns how many. A non-empty `failure` says why a ray could not
+// be integrated (or the scalars cannot be read).
+vtkIdType CastRays(vtkPolyData* full, const VertexView& view, bool parallel,
+  const std::vector<vtkIdType>& ids, const avos::VolumeRaySetup& setup,
+  std::vector<Colour>& colours, std::vector<unsigned char>& known, std::string& failure)
+{
+  if (ids.empty() || !failure.empty())
+  {
+    return 0;
+  }
+  std::atomic<vtkIdType> rays(0);
+  avos::RayFailures failures;
+  auto cast = [&](const auto& caster)
+  {
+    vtkSMPTools::For(0, static_cast<vtkIdType>(ids.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        constexpr std::size_t batch = 64;
+        std::array<vtkIdType, batch> queued;
+        std::array<glm::dvec3, batch> points, lines;
+        std::array<double, batch> reaches;
+        std::array<avos::numerics::RayResult<double>, batch> results;
+        std::size_t count = 0;
+        vtkIdType local = 0;
+        auto flush = [&]()
+        {
+          caster.Cast(count, points.data(), lines.data(), reaches.data(), results.data());
+          for (std::size_t i = 0; i < count; ++i)
+          {
+            if (!results[i].Error.empty())
+            {
+              failures.Add(results[i].Error);
+              continue;
+            }
+            const std::size_t v = static_cast<std::size_t>(queued[i]);
+            colours[v] = avos::ToBytes(results[i].RGBA);
+            known[v] = 1;
+            ++local;
+          }
+          count = 0;
+        };
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          const vtkIdType v = ids[static_cast<std::size_t>(i)];
+          double p[3];
+          full->GetPoint(v, p);
+          const glm::dvec3 point(p[0], p[1], p[2]);
+          queued[count] = v;
+          points[count] = point;
+          lines[count] = view.Line(point);
+          reaches[count] = parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
+          if (++count == batch)
+          {
+            flush();
+          }
+        }
+        flush();
+        rays += local;
+      });
+  };
+  if (!setup.Dispatch(cast))
+  {
+    failure = std::string("unsupported scalar type ") + setup.Scalars->GetDataTypeAsString();
+    return 0;
+  }
+  if (failures.GetCount() > 0)
+  {
+    failure = failures.GetMessage();
+  }
+  return rays;
+}
+// vtkInternals::GeometryLevel when the full surface is drawn (DrawFullSurface).
+constexpr int FullSurface = -2;
 } // namespace
 
 class vtkVolumeOnSurfaceMapper::vtkInternals
@@ -329,7 +572,7 @@ public:
   // ones are reused by every level.
   ViewKey Key;
   bool HaveKey = false;
-  std::vector<std::array<unsigned char, 4>> FullColors;
+  std::vector<Colour> FullColors;
   std::vector<unsigned char> Known;
   int DrawnLevel = -1;
   double SecondsPerRay = 0.0;
@@ -553,8 +796,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   key.Volume = volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
-    double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping),
-    double(this->VisibilityTest) };
+    double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping), double(this->VisibilityTest),
+    double(this->DrawFullSurface) };
   if (this->ClippingPlanes)
   {
     vtkCollectionSimpleIterator it;
@@ -604,7 +847,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     }
     levelIndex = std::max(levelIndex, dense);
   }
-  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+  Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
 
   if (newView)
   {
@@ -634,29 +877,42 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     setup.Engine = setup.Method == avos::RayIntegration::Levoy
       ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
       : nullptr;
-    vtkPolyData* s = level.Surface;
+    // The surface drawn: the level's, or the full one whose other vertices
+    // take their colours from the level's (DrawFullSurface). A drawn vertex
+    // is known by its index there, a ray by its full id.
+    // (The levels need not include the full surface: their reductions are
+    // the user's.)
+    const bool spread = this->DrawFullSurface && level.Surface.Get() != surface;
+    const int drawnIndex = spread ? FullSurface : levelIndex;
+    vtkPolyData* drawn = spread ? surface : level.Surface.Get();
+    auto fullId = [&](vtkIdType d)
+    { return spread ? d : level.FullIds[static_cast<std::size_t>(d)]; };
+    if (spread && level.FromLevel.Offsets.empty())
+    {
+      level.FromLevel.Build(drawn, level.FullIds);
+    }
     // A new level's colour arrays start black: the depth pass below draws
     // them before they are written.
-    if (in.GeometryLevel != levelIndex)
+    if (in.GeometryLevel != drawnIndex)
     {
-      in.Drawn->ShallowCopy(s);
+      in.Drawn->ShallowCopy(drawn);
       in.Colors->SetName("VoSColors");
       in.Colors->SetNumberOfComponents(4);
-      in.Colors->SetNumberOfTuples(s->GetNumberOfPoints());
+      in.Colors->SetNumberOfTuples(drawn->GetNumberOfPoints());
       in.Colors->Fill(0);
       in.Drawn->GetPointData()->SetScalars(in.Colors);
       in.Display->SetName("VoSDisplayColors");
       in.Display->SetNumberOfComponents(3);
-      in.Display->SetNumberOfTuples(s->GetNumberOfPoints());
+      in.Display->SetNumberOfTuples(drawn->GetNumberOfPoints());
       in.Display->Fill(0);
       in.Drawn->GetPointData()->AddArray(in.Display);
       in.Shown->ShallowCopy(in.Drawn);
       in.Shown->SetPolys(in.ShownPolys);
       in.Delegate->SetInputData(in.Shown);
-      in.GeometryLevel = levelIndex;
+      in.GeometryLevel = drawnIndex;
     }
-    const std::vector<unsigned char> cast = CastVertices(s, view);
-    ShownPolygons(s, cast, in.ShownPolys);
+    const std::vector<unsigned char> cast = CastVertices(drawn, view);
+    ShownPolygons(drawn, cast, in.ShownPolys);
     in.Delegate->SetClippingPlanes(this->ClippingPlanes);
 
     // The depth pass: DEPTH always; AUTO when the rays it saved last time
@@ -682,7 +938,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       {
         vtkMatrix4x4* eyeToClip =
           camera->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-        needed = NeededVertices(s, view, cast, eyeToClip->GetData(), depth, area,
+        needed = NeededVertices(drawn, view, cast, eyeToClip->GetData(), depth, area,
           std::max({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
         this->LastDepthPass = 1;
       }
@@ -694,83 +950,76 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     {
       ++in.ViewsWithoutPass;
     }
-    std::atomic<vtkIdType> rays(0), visible(0), reused(0), hidden(0);
-    avos::RayFailures failures;
-    auto colour = [&](const auto& caster)
+    // A drawn vertex wants a colour when it is cast and not hidden.
+    auto wants = [&](vtkIdType d)
     {
-      vtkSMPTools::For(0, s->GetNumberOfPoints(),
+      const std::size_t i = static_cast<std::size_t>(d);
+      return cast[i] && (needed.empty() || needed[i]);
+    };
+
+    // The level's vertices that need a ray (full ids), and the counts.
+    vtkIdType visible = 0, reused = 0, hidden = 0;
+    std::vector<vtkIdType> wanted;
+    for (std::size_t v = 0; v < level.FullIds.size(); ++v)
+    {
+      const vtkIdType full = level.FullIds[v];
+      const vtkIdType d = spread ? full : static_cast<vtkIdType>(v);
+      if (!cast[static_cast<std::size_t>(d)])
+      {
+        continue;
+      }
+      ++visible;
+      if (!wants(d))
+      {
+        ++hidden;
+      }
+      else if (in.Known[static_cast<std::size_t>(full)])
+      {
+        ++reused;
+      }
+      else
+      {
+        wanted.push_back(full);
+      }
+    }
+    std::string failure;
+    vtkIdType rays =
+      CastRays(surface, view, key.Parallel, wanted, setup, in.FullColors, in.Known, failure);
+    // The full surface's other vertices: the colours of the level's around
+    // them (Spread), or their own ray where none of those was cast (beside
+    // a silhouette, the level's vertices there may all face away).
+    std::vector<Colour> spreadColors;
+    if (spread && failure.empty())
+    {
+      spreadColors.assign(static_cast<std::size_t>(drawn->GetNumberOfPoints()), { 0, 0, 0, 0 });
+      std::vector<unsigned char> orphan(spreadColors.size(), 0);
+      vtkSMPTools::For(0, drawn->GetNumberOfPoints(),
         [&](vtkIdType begin, vtkIdType end)
         {
-          vtkIdType localRays = 0, localVisible = 0, localReused = 0, localHidden = 0;
-          // The rays go in batches, walked through the empty space together.
-          constexpr std::size_t batch = 64;
-          std::array<std::size_t, batch> ids;
-          std::array<glm::dvec3, batch> points, lines;
-          std::array<double, batch> reaches;
-          std::array<avos::numerics::RayResult<double>, batch> results;
-          std::size_t queued = 0;
-          auto flush = [&]()
+          for (vtkIdType d = begin; d < end; ++d)
           {
-            caster.Cast(queued, points.data(), lines.data(), reaches.data(), results.data());
-            for (std::size_t i = 0; i < queued; ++i)
-            {
-              if (!results[i].Error.empty())
-              {
-                failures.Add(results[i].Error);
-                continue;
-              }
-              in.FullColors[ids[i]] = avos::ToBytes(results[i].RGBA);
-              in.Known[ids[i]] = 1;
-              ++localRays;
-            }
-            queued = 0;
-          };
-          for (vtkIdType v = begin; v < end; ++v)
-          {
-            const std::size_t full = static_cast<std::size_t>(level.FullIds[v]);
-            if (!cast[static_cast<std::size_t>(v)])
-            {
-              continue;
-            }
-            ++localVisible;
-            if (!needed.empty() && !needed[static_cast<std::size_t>(v)])
-            {
-              ++localHidden;
-              continue;
-            }
-            if (in.Known[full])
-            {
-              ++localReused;
-              continue;
-            }
-            double p[3];
-            s->GetPoint(v, p);
-            const glm::dvec3 point(p[0], p[1], p[2]);
-            ids[queued] = full;
-            points[queued] = point;
-            lines[queued] = view.Line(point);
-            reaches[queued] = key.Parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
-            if (++queued == batch)
-            {
-              flush();
-            }
+            const std::size_t i = static_cast<std::size_t>(d);
+            orphan[i] = wants(d) && !in.Known[i] &&
+                !level.FromLevel.Mean(d, in.FullColors, in.Known, spreadColors[i])
+              ? 1
+              : 0;
           }
-          flush();
-          rays += localRays;
-          visible += localVisible;
-          reused += localReused;
-          hidden += localHidden;
         });
-    };
-    if (!setup.Dispatch(colour))
-    {
-      vtkErrorMacro(<< "Unsupported scalar type.");
-      return;
+      std::vector<vtkIdType> orphans;
+      for (std::size_t i = 0; i < orphan.size(); ++i)
+      {
+        if (orphan[i])
+        {
+          orphans.push_back(static_cast<vtkIdType>(i));
+        }
+      }
+      rays +=
+        CastRays(surface, view, key.Parallel, orphans, setup, in.FullColors, in.Known, failure);
     }
-    if (failures.GetCount() > 0)
+    if (!failure.empty())
     {
       // No silent transparent vertices: nothing is drawn.
-      vtkErrorMacro(<< failures.GetMessage() << ".");
+      vtkErrorMacro(<< failure << ".");
       in.HaveKey = false;
       return;
     }
@@ -784,11 +1033,14 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     }
     unsigned char* rgba = in.Colors->GetPointer(0);
     unsigned char* rgb = in.Display->GetPointer(0);
-    for (vtkIdType v = 0; v < s->GetNumberOfPoints(); ++v)
+    for (vtkIdType d = 0; d < drawn->GetNumberOfPoints(); ++d)
     {
-      const auto& c = in.FullColors[static_cast<std::size_t>(level.FullIds[v])];
-      std::copy(c.begin(), c.end(), rgba + 4 * v);
-      std::copy(c.begin(), c.begin() + 3, rgb + 3 * v);
+      const std::size_t full = static_cast<std::size_t>(fullId(d));
+      const auto& c = in.Known[full] || spreadColors.empty()
+        ? in.FullColors[full]
+        : spreadColors[static_cast<std::size_t>(d)];
+      std::copy(c.begin(), c.end(), rgba + 4 * d);
+      std::copy(c.begin(), c.begin() + 3, rgb + 3 * d);
     }
     in.Colors->Modified();
     in.Display->Modified();
@@ -827,6 +1079,7 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PixelsPerVertex: " << this->PixelsPerVertex << "\n";
   const char* tests[3] = { "Off", "Depth", "Automatic" };
   os << indent << "VisibilityTest: " << tests[this->VisibilityTest] << "\n";
+  os << indent << "DrawFullSurface: " << this->DrawFullSurface << "\n";
   os << indent << "LastDepthPass: " << this->LastDepthPass << "\n";
   os << indent << "NumberOfHiddenVertices: " << this->NumberOfHiddenVertices << "\n";
   os << indent << "LastLevelOfDetail: " << this->LastLevelOfDetail << "\n";

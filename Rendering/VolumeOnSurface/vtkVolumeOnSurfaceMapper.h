@@ -147,6 +147,24 @@ public:
   vtkGetMacro(PixelsPerVertex, double);
   ///@}
 
+  ///@{
+  /**
+   * Draw the full surface whatever the level of detail (default off): the
+   * rays are cast at the chosen level's vertices (a subset of the full
+   * surface's, see above) and every other vertex of the full surface takes
+   * a convex combination of the colours of the level's vertices nearest to
+   * it along the surface's edges (weighted by inverse distance); a vertex
+   * none of whose nearest level vertices got a ray (beside a silhouette)
+   * gets its own. The decimated levels then save rays but not the full
+   * surface's geometry and shading: for an OpenGL that draws fast (a GPU),
+   * where the rays make the frame. GetLastLevelOfDetail() tells the level
+   * cast, GetColoredSurface() the full surface drawn.
+   */
+  vtkSetMacro(DrawFullSurface, vtkTypeBool);
+  vtkGetMacro(DrawFullSurface, vtkTypeBool);
+  vtkBooleanMacro(DrawFullSurface, vtkTypeBool);
+  ///@}
+
   enum VisibilityTests
   {
     NO_VISIBILITY = 0,    // every front-facing vertex in the frustum gets a ray
@@ -202,8 +220,9 @@ public:
   ///@}
 
   /**
-   * The level of detail the last render coloured (all its polygons, drawn
-   * or not) with its "VoSColors" (unsigned char RGBA, the active scalars),
+   * The surface the last render coloured, the chosen level of detail (the
+   * full surface with DrawFullSurface; all its polygons, drawn or not),
+   * with its "VoSColors" (unsigned char RGBA, the active scalars),
    * their RGB "VoSDisplayColors" (what is drawn) and, for decimated levels,
    * "vtkOriginalPointIds".
    */
@@ -228,6 +247,7 @@ protected:
   int LastLevelOfDetail = -1;
   double PixelsPerVertex = 2.0;
   int VisibilityTest = AUTOMATIC_VISIBILITY;
+  vtkTypeBool DrawFullSurface = 0;
   vtkTypeBool LastDepthPass = 0;
   vtkIdType NumberOfHiddenVertices = 0;
   vtkIdType NumberOfRaysCast = 0;

@@ -68,6 +68,9 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         mapper.SetVisibilityTest(mapper.DEPTH_VISIBILITY)
         self.assertEqual(mapper.GetVisibilityTest(), mapper.DEPTH_VISIBILITY)
         self.assertEqual(mapper.GetScreenPixelsPerVertex(), -1.0)  # nothing drawn yet
+        self.assertFalse(mapper.GetDrawFullSurface())
+        mapper.DrawFullSurfaceOn()
+        self.assertTrue(mapper.GetDrawFullSurface())
 
 
 if __name__ == "__main__":
