@@ -494,6 +494,12 @@ def main():
     print("bench-vos: %.1f minutes; results in %s" % (minutes, args.output))
 
 
+def median_of(rows, dataset, size, technique, situation):
+    """The median seconds per frame of a row, or nan when there is none."""
+    return next((r["median_s"] for r in rows if r["dataset"] == dataset and r["size"] == size and
+                 r["technique"] == technique and r["situation"] == situation), float("nan"))
+
+
 def write_report(args, names, rows, tables, minutes):
     mb = lambda b: "%.1f" % (b / 1e6)
     out = ["# Volume on Surface: the paper's evaluation on this machine", "",
@@ -536,9 +542,7 @@ def write_report(args, names, rows, tables, minutes):
         for name in names:
             for size in SIZES:
                 s = "%dx%d" % size
-                get = lambda t: next((r["median_s"] for r in rows if r["dataset"] == name and
-                                      r["size"] == s and r["technique"] == t and
-                                      r["situation"] == situation), float("nan"))
+                get = lambda t: median_of(rows, name, s, t, situation)
                 vm, star, auto = get("VoS^M"), get("VoS^M* 0 %"), get("VoS^M* auto")
                 ada, fixed = get("RC adaptive Riemann h 0.5"), get("RC VTK fixed point h 0.5")
                 full = get("RC adaptive Riemann h 0.5 no skipping")
@@ -556,9 +560,7 @@ def write_report(args, names, rows, tables, minutes):
     for name in names:
         for size in SIZES:
             s = "%dx%d" % size
-            get = lambda t, situation: next((r["median_s"] for r in rows if r["dataset"] == name
-                                             and r["size"] == s and r["technique"] == t and
-                                             r["situation"] == situation), float("nan"))
+            get = lambda t, situation: median_of(rows, name, s, t, situation)
             turning, draw = get("VoS^M* 0 %", "rotation"), get("VoS^M* 0 %", "draw only")
             ada = get("RC adaptive Riemann h 0.5", "rotation")
             fixed = get("RC VTK fixed point h 0.5", "rotation")
@@ -574,9 +576,7 @@ def write_report(args, names, rows, tables, minutes):
             "PSNR against all rays (dB) |", "|---|---|---:|---:|---:|---:|"]
     for r in rows:
         if r["technique"] == "VoS^M* visible only":
-            full = next(x["median_s"] for x in rows if x["dataset"] == r["dataset"] and
-                        x["size"] == r["size"] and x["technique"] == "VoS^M* 0 %" and
-                        x["situation"] == "rotation")
+            full = median_of(rows, r["dataset"], r["size"], "VoS^M* 0 %", "rotation")
             out.append("| %s | %s | %.1f %% | %.3f | %.3f | %.2f |"
                        % (r["dataset"], r["size"], 100.0 * r["hidden_share"], r["median_s"], full,
                           r["psnr_vs_full"]))
