@@ -63,7 +63,7 @@ struct Spread
       points[static_cast<std::size_t>(v)] = glm::dvec3(p[0], p[1], p[2]);
     }
     // Edges of the polygons, both ways, as adjacency lists (CSR).
-    std::vector<vtkIdType> first(static_cast<std::size_t>(n) + 1, 0), next;
+    std::vector<vtkIdType> first(static_cast<std::size_t>(n) + 1, 0);
     auto edges = [&](auto&& visit)
     {
       full->GetPolys()->Visit(
@@ -152,17 +152,10 @@ struct Spread
         const double d = glm::length(points[static_cast<std::size_t>(o)] - points[u]);
         this->Weights.push_back(d > 0.0 ? 1.0 / d : 1.0);
       };
-      if (distance[u] == 0.0)
+      add(owner[u]);
+      for (vtkIdType k = first[u]; distance[u] > 0.0 && k < first[u + 1]; ++k)
       {
-        add(owner[u]);
-      }
-      else
-      {
-        add(owner[u]);
-        for (vtkIdType k = first[u]; k < first[u + 1]; ++k)
-        {
-          add(owner[static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)])]);
-        }
+        add(owner[static_cast<std::size_t>(neighbours[static_cast<std::size_t>(k)])]);
       }
       this->Offsets.push_back(static_cast<vtkIdType>(this->Sources.size()));
     }
@@ -419,10 +412,11 @@ void ShownPolygons(
 }
 
 // The vertices of `surface` that need a ray after a depth pass: those `view`
-// casts (`cast`) that are not hidden, and every vertex sharing a polygon with one, so
-// that a polygon with a visible corner is coloured whole. Hidden: at each
-// pixel of the 3 x 3 around the vertex the depth buffer holds something
-// more than `margin` (world units along the view direction) in front of it.
+// casts (`cast`) that are not hidden, and every vertex sharing a polygon
+// with one, so that a polygon with a visible corner is coloured whole.
+// Hidden: at each pixel of the 3 x 3 around the vertex the depth buffer
+// holds something more than `margin` (world units along the view direction)
+// in front of it.
 // The margin and the neighbourhood keep a vertex's own polygons, which
 // reach it between pixel centres, from hiding it. `P` is the camera's
 // projection (eye to clip coordinates, row-major): it turns window depths
@@ -483,6 +477,7 @@ std::vector<unsigned char> NeededVertices(vtkPolyData* surface, const VertexView
     });
   return needed;
 }
+
 // Casts the rays of the full surface's vertices `ids` (distinct) into
 // `colours` and `known`, in parallel, in batches whose empty-space walks run
 // together; returns how many. A non-empty `failure` says why a ray could not
@@ -491,7 +486,7 @@ vtkIdType CastRays(vtkPolyData* full, const VertexView& view, bool parallel,
   const std::vector<vtkIdType>& ids, const avos::VolumeRaySetup& setup,
   std::vector<Colour>& colours, std::vector<unsigned char>& known, std::string& failure)
 {
-  if (ids.empty() || !failure.empty())
+  if (ids.empty())
   {
     return 0;
   }
@@ -556,6 +551,7 @@ vtkIdType CastRays(vtkPolyData* full, const VertexView& view, bool parallel,
   }
   return rays;
 }
+
 // vtkInternals::GeometryLevel when the full surface is drawn (DrawFullSurface).
 constexpr int FullSurface = -2;
 } // namespace
