@@ -427,7 +427,7 @@ def main():
                     "VoS^M* %d %%" % round(100 * reduction)
                 shot = image("VoS-Mstar-" + tag_name)
                 scene.save(shot)
-                if auto or reduction in (0.0, 0.75):
+                if auto or reduction in (0.0, 0.75) or cast == 0.75:
                     shots.append((label, shot))
                 psnr, ssim = quality(shot, reference)
                 extra = {"psnr": psnr, "ssim": ssim,
