@@ -32,6 +32,8 @@
 #include <atomic>
 #include <functional>
 #include <limits>
+#include <map>
+#include <memory>
 #include <queue>
 #include <string>
 #include <utility>
@@ -552,8 +554,53 @@ vtkIdType CastRays(vtkPolyData* full, const VertexView& view, bool parallel,
   return rays;
 }
 
-// vtkInternals::GeometryLevel when the full surface is drawn (DrawFullSurface).
-constexpr int FullSurface = -2;
+// What one surface drawn (a level, or the full surface with
+// DrawFullSurface) hands its OpenGL delegate: the surface (a shallow copy)
+// with its colours, written in place each view, and only its polygons with
+// a cast corner (ShownPolygons). One per surface drawn, kept while the
+// levels are: a level drawn again, as the automatic level goes back and
+// forth between views, finds its geometry already uploaded.
+struct Drawing
+{
+  vtkNew<vtkPolyData> Drawn;
+  vtkNew<vtkUnsignedCharArray> Colors;
+  vtkNew<vtkUnsignedCharArray> Display; // their RGB: what is drawn, opaque
+  vtkNew<vtkPolyData> Shown;
+  vtkNew<vtkCellArray> ShownPolys;
+  vtkSmartPointer<vtkPolyDataMapper> Delegate;
+
+  // The colours start black: a depth pass draws them before they are
+  // written.
+  explicit Drawing(vtkPolyData* surface)
+  {
+    this->Drawn->ShallowCopy(surface);
+    this->Colors->SetName("VoSColors");
+    this->Colors->SetNumberOfComponents(4);
+    this->Colors->SetNumberOfTuples(surface->GetNumberOfPoints());
+    this->Colors->Fill(0);
+    this->Drawn->GetPointData()->SetScalars(this->Colors);
+    this->Display->SetName("VoSDisplayColors");
+    this->Display->SetNumberOfComponents(3);
+    this->Display->SetNumberOfTuples(surface->GetNumberOfPoints());
+    this->Display->Fill(0);
+    this->Drawn->GetPointData()->AddArray(this->Display);
+    this->Shown->ShallowCopy(this->Drawn);
+    this->Shown->SetPolys(this->ShownPolys);
+    // The OpenGL implementation, through VTK's object factory, drawing
+    // opaque by the colours' RGB (premultiplied: the volume in front over
+    // black, as a ray cast shows it); RGBA would be blended, multiplying the
+    // colour by its opacity once more.
+    this->Delegate = vtkSmartPointer<vtkPolyDataMapper>::New();
+    this->Delegate->SetColorModeToDirectScalars();
+    this->Delegate->SetScalarModeToUsePointFieldData();
+    this->Delegate->SelectColorArray("VoSDisplayColors");
+    this->Delegate->SetInputData(this->Shown);
+  }
+};
+
+// The key of the full surface's Drawing (DrawFullSurface); the levels' are
+// their indices.
+constexpr int FullSurface = -1;
 } // namespace
 
 class vtkVolumeOnSurfaceMapper::vtkInternals
@@ -582,17 +629,22 @@ public:
   avos::EmptySpaceCache EmptySpace;
   avos::EngineVolume EngineScalars;
 
-  // The drawn level's geometry (shallow copy) and its colours, written in
-  // place: a new view uploads only the colours, not the geometry again.
-  vtkNew<vtkPolyData> Drawn;
-  vtkNew<vtkUnsignedCharArray> Colors;
-  vtkNew<vtkUnsignedCharArray> Display; // their RGB: what is drawn, opaque
-  // What the delegate draws: the drawn level's points and colours, and only
-  // its polygons with a cast corner for the view `Key` (ShownPolygons).
-  vtkNew<vtkPolyData> Shown;
-  vtkNew<vtkCellArray> ShownPolys;
-  int GeometryLevel = -1;
-  vtkSmartPointer<vtkPolyDataMapper> Delegate;
+  // The surfaces drawn so far, by level (FullSurface: the full one), and
+  // the one drawn last (null before the first).
+  std::map<int, std::unique_ptr<Drawing>> Drawings;
+  Drawing* Active = nullptr;
+  vtkNew<vtkPolyData> Nothing; // GetColoredSurface() before a surface is coloured
+
+  // Gives the drawings' OpenGL resources back and forgets them.
+  void ReleaseDrawings(vtkWindow* win)
+  {
+    for (auto& drawing : this->Drawings)
+    {
+      drawing.second->Delegate->ReleaseGraphicsResources(win);
+    }
+    this->Drawings.clear();
+    this->Active = nullptr;
+  }
 };
 
 vtkStandardNewMacro(vtkVolumeOnSurfaceMapper);
@@ -602,14 +654,6 @@ vtkVolumeOnSurfaceMapper::vtkVolumeOnSurfaceMapper()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
-  // The OpenGL implementation, through VTK's object factory.
-  this->Internals->Delegate = vtkSmartPointer<vtkPolyDataMapper>::New();
-  // Drawn opaque, by the colours' RGB (premultiplied: the volume in front
-  // over black, as a ray cast shows it); RGBA would be blended, multiplying
-  // the colour by its opacity once more.
-  this->Internals->Delegate->SetColorModeToDirectScalars();
-  this->Internals->Delegate->SetScalarModeToUsePointFieldData();
-  this->Internals->Delegate->SelectColorArray("VoSDisplayColors");
 }
 
 vtkVolumeOnSurfaceMapper::~vtkVolumeOnSurfaceMapper()
@@ -678,7 +722,8 @@ int vtkVolumeOnSurfaceMapper::GetNumberOfLevelsOfDetail()
 
 vtkPolyData* vtkVolumeOnSurfaceMapper::GetColoredSurface()
 {
-  return this->Internals->Drawn;
+  vtkInternals& in = *this->Internals;
+  return in.Active ? in.Active->Drawn.Get() : in.Nothing.Get();
 }
 
 int vtkVolumeOnSurfaceMapper::FillInputPortInformation(int port, vtkInformation* info)
@@ -689,7 +734,10 @@ int vtkVolumeOnSurfaceMapper::FillInputPortInformation(int port, vtkInformation*
 
 void vtkVolumeOnSurfaceMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  this->Internals->Delegate->ReleaseGraphicsResources(win);
+  for (auto& drawing : this->Internals->Drawings)
+  {
+    drawing.second->Delegate->ReleaseGraphicsResources(win);
+  }
 }
 
 void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
@@ -773,7 +821,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     in.LevelsSource = surface;
     in.LevelsTime = surface->GetMTime();
     in.HaveKey = false;
-    in.GeometryLevel = -1;
+    in.ReleaseDrawings(ren->GetRenderWindow());
   }
 
   // The view.
@@ -887,29 +935,16 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     {
       level.FromLevel.Build(drawn, level.FullIds);
     }
-    // A new level's colour arrays start black: the depth pass below draws
-    // them before they are written.
-    if (in.GeometryLevel != drawnIndex)
+    std::unique_ptr<Drawing>& slot = in.Drawings[drawnIndex];
+    if (!slot)
     {
-      in.Drawn->ShallowCopy(drawn);
-      in.Colors->SetName("VoSColors");
-      in.Colors->SetNumberOfComponents(4);
-      in.Colors->SetNumberOfTuples(drawn->GetNumberOfPoints());
-      in.Colors->Fill(0);
-      in.Drawn->GetPointData()->SetScalars(in.Colors);
-      in.Display->SetName("VoSDisplayColors");
-      in.Display->SetNumberOfComponents(3);
-      in.Display->SetNumberOfTuples(drawn->GetNumberOfPoints());
-      in.Display->Fill(0);
-      in.Drawn->GetPointData()->AddArray(in.Display);
-      in.Shown->ShallowCopy(in.Drawn);
-      in.Shown->SetPolys(in.ShownPolys);
-      in.Delegate->SetInputData(in.Shown);
-      in.GeometryLevel = drawnIndex;
+      slot.reset(new Drawing(drawn));
     }
+    Drawing& drawing = *slot;
+    in.Active = &drawing;
     const std::vector<unsigned char> cast = CastVertices(drawn, view);
-    ShownPolygons(drawn, cast, in.ShownPolys);
-    in.Delegate->SetClippingPlanes(this->ClippingPlanes);
+    ShownPolygons(drawn, cast, drawing.ShownPolys);
+    drawing.Delegate->SetClippingPlanes(this->ClippingPlanes);
 
     // The depth pass: DEPTH always; AUTO when the rays it saved last time
     // (at today's cost per ray) outweigh what it cost, and every 16th new
@@ -930,7 +965,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       double spacing[3];
       volume->GetSpacing(spacing);
       if (DepthWith(
-            ren, [&]() { in.Delegate->Render(ren, act); }, depth, area))
+            ren, [&]() { drawing.Delegate->Render(ren, act); }, depth, area))
       {
         vtkMatrix4x4* eyeToClip =
           camera->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
@@ -1027,8 +1062,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     {
       in.HiddenShare = static_cast<double>(hidden) / static_cast<double>(visible);
     }
-    unsigned char* rgba = in.Colors->GetPointer(0);
-    unsigned char* rgb = in.Display->GetPointer(0);
+    unsigned char* rgba = drawing.Colors->GetPointer(0);
+    unsigned char* rgb = drawing.Display->GetPointer(0);
     for (vtkIdType d = 0; d < drawn->GetNumberOfPoints(); ++d)
     {
       const std::size_t full = static_cast<std::size_t>(fullId(d));
@@ -1038,8 +1073,8 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       std::copy(c.begin(), c.end(), rgba + 4 * d);
       std::copy(c.begin(), c.begin() + 3, rgb + 3 * d);
     }
-    in.Colors->Modified();
-    in.Display->Modified();
+    drawing.Colors->Modified();
+    drawing.Display->Modified();
     in.DrawnLevel = levelIndex;
   }
   this->LastLevelOfDetail = levelIndex;
@@ -1052,8 +1087,11 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       static_cast<double>(this->NumberOfRaysCast);
   }
 
-  in.Delegate->SetClippingPlanes(this->ClippingPlanes);
-  in.Delegate->Render(ren, act);
+  if (in.Active)
+  {
+    in.Active->Delegate->SetClippingPlanes(this->ClippingPlanes);
+    in.Active->Delegate->Render(ren, act);
+  }
 }
 
 void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)

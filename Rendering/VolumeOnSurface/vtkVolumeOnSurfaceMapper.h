@@ -25,7 +25,9 @@
  * covered pixels apart on the screen (a far or small surface needs fewer
  * rays); a level can also be forced. Decimated vertices are a subset of the
  * full surface's (their original ids), so colours already computed for the
- * same view are reused across levels instead of cast again.
+ * same view are reused across levels instead of cast again; each level
+ * drawn keeps its own OpenGL delegate, so a level drawn again (as the
+ * automatic level goes back and forth) does not upload its geometry again.
  *
  * Hidden vertices: with VisibilityTest DEPTH the drawn level is first drawn
  * into the depth buffer only (over the props drawn before it) and read

@@ -124,6 +124,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   Expect(mapper->GetNumberOfRaysCast() == n, "removing the plane casts again");
 
   // A coarser level for the same view: colours come from the full level.
+  vtkPolyData* fullDrawing = mapper->GetColoredSurface();
   mapper->SetLevelOfDetail(2); // 90 % decimated
   window->Render();
   Expect(mapper->GetLastLevelOfDetail() == 2, "level 2 drawn");
@@ -131,7 +132,15 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   Expect(mapper->GetNumberOfRaysCast() == 0 &&
       mapper->GetNumberOfReusedColors() == mapper->GetNumberOfVisibleVertices(),
     "a coarser level reuses the colours");
+  // Back to the full level: each level keeps its own drawing (the surface
+  // handed to OpenGL, its geometry uploaded once), which comes back with
+  // its colours rewritten.
+  vtkPolyData* coarseDrawing = mapper->GetColoredSurface();
   mapper->SetLevelOfDetail(0);
+  window->Render();
+  Expect(coarseDrawing != fullDrawing && mapper->GetColoredSurface() == fullDrawing &&
+      mapper->GetNumberOfRaysCast() == 0 && worstAgainst(alpha) <= 0.5 + 1e-6,
+    "a level drawn again: its own drawing, its colours rewritten");
 
   // Memory (Tables III, IV): the short scalars, and surfaces that shrink
   // with the levels' decimation.
