@@ -79,14 +79,11 @@ constexpr double SegmentPad = 1e-6;
 // What a frame's ray cast depends on, besides the data and the property.
 struct FrameGeometry
 {
-  double NDCToWorld[16];  // inverse of the camera's composite projection
-  double WorldToGrid[16]; // world -> continuous grid index (from 0)
-  double Voxel = 1.0;     // world length of one voxel unit
-  int Dimensions[3] = { 0, 0, 0 };
-  int Width = 0;
-  int Height = 0;
+  // Camera, grid and image: what the pixels' rays depend on (Rays.Depth
+  // points into Depth).
+  avos::engine::FrameRays Rays;
   int Rect[4] = { 0, 0, 0, 0 }; // pixels cast: [x0, x1) x [y0, y1)
-  std::vector<float> Depth;     // the depth buffer, Width x Height
+  std::vector<float> Depth;     // the depth buffer, Rays.Width x Rays.Height
   an::ClipRegion<double> Clip;  // clipping planes and cropping, in grid coordinates
 };
 
@@ -112,26 +109,12 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
   return r;
 }
 
-// The engine's view of the frame's rays (on the frame's own depth buffer).
-avos::engine::FrameRays RaysOf(const FrameGeometry& g)
-{
-  avos::engine::FrameRays rays;
-  std::copy(g.NDCToWorld, g.NDCToWorld + 16, rays.NDCToWorld);
-  std::copy(g.WorldToGrid, g.WorldToGrid + 16, rays.WorldToGrid);
-  rays.Voxel = g.Voxel;
-  std::copy(g.Dimensions, g.Dimensions + 3, rays.Dimensions);
-  rays.Width = g.Width;
-  rays.Height = g.Height;
-  rays.Depth = g.Depth.data();
-  return rays;
-}
-
 // The pixel's ray from its centre on the near plane to the depth buffer, in
 // grid coordinates (voxel units), clipped to the grid's box.
 bool PixelRay(
   const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction, double& D)
 {
-  return avos::engine::PixelRay(RaysOf(g), x, y, &origin.x, &direction.x, D);
+  return avos::engine::PixelRay(g.Rays, x, y, &origin.x, &direction.x, D);
 }
 
 // The integration settings of one frame.
@@ -481,7 +464,7 @@ public:
     const an::EmptySpaceMap<double>* map, const Method& method, float* image,
     vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<RayBuffers>& buffers,
     avos::WorkMonitor& monitor)
-    : Volume(data, geometry.Dimensions)
+    : Volume(data, geometry.Rays.Dimensions)
     , Geometry(geometry)
     , TF(tf)
     , Map(map)
@@ -492,7 +475,6 @@ public:
     , Monitor(monitor)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
-    this->Rays = RaysOf(geometry);
   }
 
   // Tiles [begin, end) in row-major order over the cast rectangle. Once the
@@ -519,7 +501,7 @@ private:
   // the box, set up and walked through the empty-space map as one packet.
   void CastRow(int x0, int x1, int y, ThreadStatistics& stats, RayBuffers& buffers)
   {
-    const int count = avos::engine::RowRays(this->Rays, y, x0, x1, buffers.RowX.data(),
+    const int count = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
       buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
     if (WalksSegments(this->Map, this->Settings))
     {
@@ -550,7 +532,7 @@ private:
         stats.FirstError = result.Error;
       }
     }
-    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Width + x);
+    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Rays.Width + x);
     for (int c = 0; c < 4; ++c)
     {
       pixel[c] = static_cast<float>(result.RGBA[c]);
@@ -572,7 +554,6 @@ private:
   vtkSMPThreadLocal<RayBuffers>& Buffers;
   avos::WorkMonitor& Monitor;
   int TilesX = 0;
-  avos::engine::FrameRays Rays;
 };
 
 } // namespace
@@ -1006,10 +987,10 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   const int width = std::max(1, static_cast<int>(std::ceil(viewportWidth / distance - 1e-9)));
   const int height = std::max(1, static_cast<int>(std::ceil(viewportHeight / distance - 1e-9)));
   FrameGeometry& g = internals.Geometry;
-  g.Width = width;
-  g.Height = height;
-  std::copy(dims, dims + 3, g.Dimensions);
-  g.Voxel = voxel;
+  g.Rays.Width = width;
+  g.Rays.Height = height;
+  std::copy(dims, dims + 3, g.Rays.Dimensions);
+  g.Rays.Voxel = voxel;
   internals.ViewportDepth.resize(static_cast<std::size_t>(viewportWidth) * viewportHeight);
   if (!ren->GetRenderWindow()->GetZbufferData(
         x0, y0, x0 + viewportWidth - 1, y0 + viewportHeight - 1, internals.ViewportDepth.data()))
@@ -1018,6 +999,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   // Each ray stops at the depth under its own centre.
   g.Depth.resize(static_cast<std::size_t>(width) * height);
+  g.Rays.Depth = g.Depth.data();
   for (int y = 0; y < height; ++y)
   {
     const int vy =
@@ -1051,8 +1033,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     vtkNew<vtkMatrix4x4> ndcToWorld;
     vtkMatrix4x4::Invert(projection, ndcToWorld);
-    std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, g.NDCToWorld);
-    std::copy(worldToGrid->GetData(), worldToGrid->GetData() + 16, g.WorldToGrid);
+    std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, g.Rays.NDCToWorld);
+    std::copy(worldToGrid->GetData(), worldToGrid->GetData() + 16, g.Rays.WorldToGrid);
     g.Clip = clip;
 
     // Cast only the box's footprint on the screen (all of it when a corner
@@ -1126,7 +1108,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
         {
           // glm is column-major: m[column][row]. The normal matrix is the
           // transpose of world-to-grid's linear part.
-          method.NormalMatrix[r][c] = g.WorldToGrid[4 * r + c];
+          method.NormalMatrix[r][c] = g.Rays.WorldToGrid[4 * r + c];
         }
       }
       method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
@@ -1278,10 +1260,10 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
     vtkErrorMacro(<< "The reference method records no steps to trace.");
     return false;
   }
-  if (x < 0 || y < 0 || x >= g.Width || y >= g.Height)
+  if (x < 0 || y < 0 || x >= g.Rays.Width || y >= g.Rays.Height)
   {
-    vtkErrorMacro(<< "Pixel (" << x << ", " << y << ") is outside the " << g.Width << " x "
-                  << g.Height << " image.");
+    vtkErrorMacro(<< "Pixel (" << x << ", " << y << ") is outside the " << g.Rays.Width << " x "
+                  << g.Rays.Height << " image.");
     return false;
   }
   std::vector<an::StepRecord<double>> records;
@@ -1291,7 +1273,7 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
   auto trace = [&](auto* data)
   {
     using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-    const an::TrilinearVolume<double, Storage> volume(data, g.Dimensions);
+    const an::TrilinearVolume<double, Storage> volume(data, g.Rays.Dimensions);
     hit = IntegratePixel(volume, g, internals.TF,
       internals.FrameSkipping ? &internals.Ranges.GetMap() : nullptr, internals.FrameMethod, x, y,
       buffers, result, &records);
