@@ -290,13 +290,13 @@ std::vector<unsigned char> CastVertices(vtkPolyData* surface, const VertexView& 
 
 // Covered pixels per cast vertex of `surface` on a width x height viewport:
 // the window area of its front-facing polygons with a vertex in the frustum,
-// over its vertices that get a ray. Hidden layers count in both, so the
-// ratio is the spacing of the vertices on the screen, about twice a
-// triangle's area. Infinite when no vertex is cast.
-double ScreenPixelsPerVertex(vtkPolyData* surface, const VertexView& view, int width, int height)
+// over its vertices that get a ray (`cast`, CastVertices). Hidden layers
+// count in both, so the ratio is the spacing of the vertices on the screen,
+// about twice a triangle's area. Infinite when no vertex is cast.
+double ScreenPixelsPerVertex(vtkPolyData* surface, const std::vector<unsigned char>& cast,
+  const VertexView& view, int width, int height)
 {
   const vtkIdType n = surface->GetNumberOfPoints();
-  const std::vector<unsigned char> cast = CastVertices(surface, view);
   std::vector<glm::dvec2> window(static_cast<std::size_t>(n));
   std::atomic<vtkIdType> count(0);
   vtkSMPTools::For(0, n,
@@ -860,6 +860,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   const bool newView = !in.HaveKey || !(key == in.Key);
   const int levels = static_cast<int>(in.Levels.size());
   int levelIndex = std::min(this->LevelOfDetail, levels - 1);
+  std::vector<unsigned char> firstCast; // the first level's cast vertices, when computed
   if (this->LevelOfDetail < 0)
   {
     const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
@@ -876,7 +877,9 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     if (newView || in.FullPixelsPerVertex < 0.0)
     {
       const int* size = ren->GetSize();
-      in.FullPixelsPerVertex = ScreenPixelsPerVertex(in.Levels[0].Surface, view, size[0], size[1]);
+      firstCast = CastVertices(in.Levels[0].Surface, view);
+      in.FullPixelsPerVertex =
+        ScreenPixelsPerVertex(in.Levels[0].Surface, firstCast, view, size[0], size[1]);
     }
     int dense = 0;
     const double full = static_cast<double>(in.Levels[0].Surface->GetNumberOfPoints());
@@ -942,7 +945,10 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
     }
     Drawing& drawing = *slot;
     in.Active = &drawing;
-    const std::vector<unsigned char> cast = CastVertices(drawn, view);
+    // (The first level's, when the screen density above computed them.)
+    const std::vector<unsigned char> cast = drawn == in.Levels[0].Surface && !firstCast.empty()
+      ? std::move(firstCast)
+      : CastVertices(drawn, view);
     ShownPolygons(drawn, cast, drawing.ShownPolys);
     drawing.Delegate->SetClippingPlanes(this->ClippingPlanes);
 
