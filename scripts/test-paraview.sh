@@ -70,7 +70,12 @@ timeout 600 xvfb-run -a -s "$xvfb" pvbatch "$image" "$plugin" "$data" "$out/avos
 /usr/bin/python3 "$root/Plugin/Testing/VolumeImages.py" "$out"
 echo "== a .tf1d file as a ParaView preset"
 timeout 600 xvfb-run -a -s "$xvfb" pvpython "$root/Plugin/Testing/Tf1dPreset.py" "$plugin" \
-  "$data/tf/Bonsai.1.256x256x256.linear.tf1d" "$out"
+  "$data/tf/Bonsai.1.256x256x256.linear.tf1d" "$out" 2>&1 | tee "$out/preset.log"
+# Creating the proxy must not run the reader with no file (it logged an error).
+if grep -qE "ERR\||ERROR" "$out/preset.log"; then
+  echo "the preset test logged an error" >&2
+  exit 1
+fi
 echo "ParaView plugin tests passed"
 
 # Figures, not assertions: time and peak memory per rank on a 160^3 volume.
