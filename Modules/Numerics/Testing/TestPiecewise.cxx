@@ -525,6 +525,16 @@ TEST(Piecewise, LocateEqualsBinarySearch)
       ASSERT_EQ(p.CountBelow(s),
         static_cast<std::size_t>(std::lower_bound(knots.begin(), knots.end(), s) - knots.begin()))
         << s;
+      // LocateNear: the same answer from any guess, right or wrong.
+      for (std::size_t guess : { std::size_t(0), p.Locate(s), p.Locate(s) + 1, knots.size(),
+             knots.size() + 1, knots.size() / 2 })
+      {
+        ASSERT_EQ(p.LocateNear(s, guess), p.Locate(s)) << s << " " << guess;
+      }
+    }
+    for (std::size_t guess = 0; guess <= knots.size() + 1; ++guess)
+    {
+      ASSERT_EQ(p.LocateNear(std::nan(""), guess), p.Locate(std::nan(""))) << guess;
     }
   }
 }

@@ -178,6 +178,19 @@ public:
   // never classify a NaN; see PieceWalk).
   std::size_t Locate(Real s) const { return this->Locator.UpperBound(s); }
 
+  // Locate(s) from a guess of it: two comparisons when the guess is right
+  // (a sub-piece between two known knots), the search otherwise.
+  std::size_t LocateNear(Real s, std::size_t guess) const
+  {
+    const std::vector<Real>& knots = this->GetKnots();
+    if (guess <= knots.size() && (guess == 0 || knots[guess - 1] <= s) &&
+      (guess == knots.size() || s < knots[guess]))
+    {
+      return guess;
+    }
+    return this->Locate(s);
+  }
+
   // The number of knots strictly below s (std::lower_bound's answer).
   std::size_t CountBelow(Real s) const
   {
@@ -656,7 +669,8 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
       const std::size_t k0 = tf.Locate(slo);
       const std::size_t k1 = tf.CountBelow(shi);
       const std::size_t inside = k1 > k0 ? k1 - k0 : 0;
-      auto visibleAt = [&](std::size_t j) { return tf.IsVisible(rising ? k0 + j : k1 - j); };
+      auto pieceAt = [&](std::size_t j) { return rising ? k0 + j : k1 - j; };
+      auto visibleAt = [&](std::size_t j) { return tf.IsVisible(pieceAt(j)); };
       Real u = ua; // the start of sub-piece j, or a point before it when skipped
       for (std::size_t j = 0; j <= inside; ++j)
       {
@@ -679,7 +693,7 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
         {
           // The transfer-function piece from the scalar in the middle:
           // robust where a crossing rounds onto a knot.
-          const std::size_t piece = tf.Locate(s(Real(0.5) * (u + next)));
+          const std::size_t piece = tf.LocateNear(s(Real(0.5) * (u + next)), pieceAt(j));
           if (tf.IsVisible(piece) && !emit(u, next, piece, true))
           {
             return false;
