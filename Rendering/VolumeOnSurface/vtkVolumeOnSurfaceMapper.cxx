@@ -635,13 +635,19 @@ public:
   Drawing* Active = nullptr;
   vtkNew<vtkPolyData> Nothing; // GetColoredSurface() before a surface is coloured
 
-  // Gives the drawings' OpenGL resources back and forgets them.
-  void ReleaseDrawings(vtkWindow* win)
+  // Gives the drawings' OpenGL resources back.
+  void ReleaseGraphics(vtkWindow* win)
   {
     for (auto& drawing : this->Drawings)
     {
       drawing.second->Delegate->ReleaseGraphicsResources(win);
     }
+  }
+
+  // Gives the drawings' OpenGL resources back and forgets them.
+  void ReleaseDrawings(vtkWindow* win)
+  {
+    this->ReleaseGraphics(win);
     this->Drawings.clear();
     this->Active = nullptr;
   }
@@ -734,10 +740,7 @@ int vtkVolumeOnSurfaceMapper::FillInputPortInformation(int port, vtkInformation*
 
 void vtkVolumeOnSurfaceMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  for (auto& drawing : this->Internals->Drawings)
-  {
-    drawing.second->Delegate->ReleaseGraphicsResources(win);
-  }
+  this->Internals->ReleaseGraphics(win);
 }
 
 void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
