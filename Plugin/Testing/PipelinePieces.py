@@ -35,12 +35,12 @@ colours = GetColorTransferFunction("density")
 colours.RGBPoints = [0.0, 0.1, 0.2, 1.0, 255.0, 1.0, 0.4, 0.1]
 opacity = GetOpacityTransferFunction("density")
 opacity.Points = [0.0, 0.0, 0.5, 0.0, 255.0, 0.3, 0.5, 0.0]
-# The volume port gets its own reader: one output cannot hold the contour's
-# piece and the whole volume at once (docs/DISTRIBUTED.md).
-volume = VolvisRawReader(  # noqa: F821
-    FileName=data + "/volumes/Neghip.1.64x64x64.raw")
+# The volume port shares the contour's reader: each rank receives its piece
+# of the volume, and the filter gathers the pieces into the whole volume
+# (vtkPVVolumeOnSurfaceFilter::AssembleVolume). VolumeImage.py gives the
+# volume port a reader of its own, the other way.
 vos = VolumeonSurface(  # noqa: F821
-    Input=contour, Volume=volume, ColorTransferFunction=colours,
+    Input=contour, Volume=reader, ColorTransferFunction=colours,
     ScalarOpacityFunction=opacity, CameraPosition=[32.0, 20.0, 250.0],
     CameraFocalPoint=[32.0, 32.0, 32.0])
 vos.UpdatePipeline()

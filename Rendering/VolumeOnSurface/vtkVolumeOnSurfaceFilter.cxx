@@ -182,11 +182,39 @@ int vtkVolumeOnSurfaceFilter::RequestUpdateExtent(
   return 1;
 }
 
+vtkSmartPointer<vtkImageData> vtkVolumeOnSurfaceFilter::AssembleVolume(
+  vtkImageData* received, vtkInformation* volumeInfo)
+{
+  // The whole volume was requested (RequestUpdateExtent); a part of it means
+  // that another consumer of the same producer output asked for a piece
+  // later in the same update (one output holds one request): the rays would
+  // end at the piece's border.
+  if (received && volumeInfo && volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    int whole[6], extent[6];
+    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    received->GetExtent(extent);
+    if (!std::equal(extent, extent + 6, whole))
+    {
+      vtkErrorMacro(<< "The volume holds extent (" << extent[0] << ".." << extent[1] << ", "
+                    << extent[2] << ".." << extent[3] << ", " << extent[4] << ".." << extent[5]
+                    << ") of (" << whole[0] << ".." << whole[1] << ", " << whole[2] << ".."
+                    << whole[3] << ", " << whole[4] << ".." << whole[5]
+                    << "): its producer also feeds a branch that asked for a piece. Give the "
+                       "volume port a producer of its own (for example a second reader).");
+      return nullptr;
+    }
+  }
+  return received;
+}
+
 int vtkVolumeOnSurfaceFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   vtkPolyData* surface = vtkPolyData::GetData(inputVector[0]);
-  vtkImageData* volume = vtkImageData::GetData(inputVector[1]);
+  vtkImageData* received = vtkImageData::GetData(inputVector[1]);
+  const vtkSmartPointer<vtkImageData> volume =
+    this->AssembleVolume(received, inputVector[1]->GetInformationObject(0));
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
   vtkInternals& in = *this->Internals;
   this->NumberOfRaysCast = 0;
@@ -198,31 +226,14 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     vtkErrorMacro(<< "The surface (input 0) is empty.");
     return 1;
   }
-  if (!volume)
+  if (!received)
   {
     vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
     return 1;
   }
-  // The whole volume was requested (RequestUpdateExtent); a part of it means
-  // that another consumer of the same producer output asked for a piece
-  // later in the same update (one output holds one request): the rays would
-  // end at the piece's border.
-  vtkInformation* volumeInfo = inputVector[1]->GetInformationObject(0);
-  if (volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  if (!volume)
   {
-    int whole[6], extent[6];
-    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-    volume->GetExtent(extent);
-    if (!std::equal(extent, extent + 6, whole))
-    {
-      vtkErrorMacro(<< "The volume holds extent (" << extent[0] << ".." << extent[1] << ", "
-                    << extent[2] << ".." << extent[3] << ", " << extent[4] << ".." << extent[5]
-                    << ") of (" << whole[0] << ".." << whole[1] << ", " << whole[2] << ".."
-                    << whole[3] << ", " << whole[4] << ".." << whole[5]
-                    << "): its producer also feeds a branch that asked for a piece. Give the "
-                       "volume port a producer of its own (for example a second reader).");
-      return 1;
-    }
+    return 1; // AssembleVolume said why
   }
   if (!this->VolumeProperty)
   {

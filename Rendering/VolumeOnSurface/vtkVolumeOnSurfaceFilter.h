@@ -43,11 +43,12 @@
  * alike on every piece that holds it); the volume is requested whole on
  * every piece, since a vertex's rays leave the piece's part of the volume:
  * each piece's colours equal those of the whole surface, at the cost of the
- * whole volume's memory per process. The volume port needs a producer of
- * its own: when the same output also feeds the surface's branch (reader ->
- * contour), that branch's piece request replaces the whole one (an output
- * holds one request per update) and the filter reports an error instead of
- * casting rays through a piece.
+ * whole volume's memory per process. When the same output also feeds the
+ * surface's branch (reader -> contour), that branch's piece request replaces
+ * the whole one (an output holds one request per update): this filter then
+ * reports an error instead of casting rays through a piece, unless a
+ * subclass assembles the pieces (AssembleVolume; vtkPVVolumeOnSurfaceFilter
+ * gathers them over the processes of a distributed run).
  *
  * @sa vtkAdaptiveVolumeMapper vtkOpenMeshDecimation
  */
@@ -56,10 +57,12 @@
 
 #include "avosRenderingVolumeOnSurfaceModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
+#include "vtkSmartPointer.h" // For vtkSmartPointer
 
 #include <memory> // For std::unique_ptr
 
 class vtkCamera;
+class vtkImageData;
 class vtkVolumeProperty;
 
 class AVOSRENDERINGVOLUMEONSURFACE_EXPORT vtkVolumeOnSurfaceFilter : public vtkPolyDataAlgorithm
@@ -195,6 +198,17 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /**
+   * The volume the rays cross, from what input port 1 received (null when
+   * nothing) and its information. This filter asks for the whole volume; a
+   * part of it means that another consumer of the same output asked for a
+   * piece in the same update: here that is an error (null returned, the
+   * error reported). Called first in RequestData on every process, before
+   * any check, so that an override may communicate with the other processes.
+   */
+  virtual vtkSmartPointer<vtkImageData> AssembleVolume(
+    vtkImageData* received, vtkInformation* volumeInfo);
 
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCamera* Camera = nullptr;

@@ -2,9 +2,20 @@
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkCommunicator.h"
+#include "vtkDataArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkMatrix3x3.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <vector>
 
 vtkStandardNewMacro(vtkPVVolumeOnSurfaceFilter);
 
@@ -53,6 +64,113 @@ void vtkPVVolumeOnSurfaceFilter::SetColorTransferFunction(vtkColorTransferFuncti
 void vtkPVVolumeOnSurfaceFilter::SetScalarOpacityFunction(vtkPiecewiseFunction* opacity)
 {
   this->OwnProperty->SetScalarOpacity(opacity);
+}
+
+vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
+  vtkImageData* received, vtkInformation* volumeInfo)
+{
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  const bool hasWhole =
+    volumeInfo && volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  int whole[6] = { 0, -1, 0, -1, 0, -1 }, extent[6] = { 0, -1, 0, -1, 0, -1 };
+  if (hasWhole)
+  {
+    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  }
+  if (received)
+  {
+    received->GetExtent(extent);
+  }
+  // Every process takes part in the same collectives, whatever it holds:
+  // first, whether any process holds a part only.
+  int part = received && hasWhole && !std::equal(extent, extent + 6, whole) ? 1 : 0;
+  int anyPart = part;
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    controller->AllReduce(&part, &anyPart, 1, vtkCommunicator::MAX_OP);
+  }
+  if (!anyPart || !controller)
+  {
+    return this->Superclass::AssembleVolume(received, volumeInfo);
+  }
+
+  // Each process in turn broadcasts its piece (its scalars only); every
+  // process copies each piece into its place in the whole extent and counts
+  // the points covered.
+  vtkDataArray* scalars = received ? received->GetPointData()->GetScalars() : nullptr;
+  auto wholeVolume = vtkSmartPointer<vtkImageData>::New();
+  std::vector<unsigned char> covered;
+  bool failed = false;
+  for (int sender = 0; sender < controller->GetNumberOfProcesses(); ++sender)
+  {
+    auto piece = vtkSmartPointer<vtkImageData>::New();
+    int pieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
+    double geometry[15] = {}; // origin, spacing, direction
+    if (sender == controller->GetLocalProcessId() && received && scalars)
+    {
+      piece->CopyStructure(received);
+      piece->GetPointData()->SetScalars(scalars);
+      std::copy(extent, extent + 6, pieceExtent);
+      received->GetOrigin(geometry);
+      received->GetSpacing(geometry + 3);
+      std::copy_n(received->GetDirectionMatrix()->GetData(), 9, geometry + 6);
+    }
+    // The extent and geometry travel on their own: the data object's
+    // serialisation keeps the dimensions, not where the piece starts.
+    controller->Broadcast(pieceExtent, 6, sender);
+    controller->Broadcast(geometry, 15, sender);
+    controller->Broadcast(piece, sender);
+    vtkDataArray* pieceScalars = piece->GetPointData()->GetScalars();
+    if (pieceExtent[0] > pieceExtent[1] || !pieceScalars || failed)
+    {
+      continue; // an empty piece, or a process that holds none
+    }
+    piece->SetExtent(pieceExtent);
+    piece->SetOrigin(geometry);
+    piece->SetSpacing(geometry + 3);
+    piece->SetDirectionMatrix(geometry + 6);
+    if (!wholeVolume->GetPointData()->GetScalars())
+    {
+      wholeVolume->SetExtent(whole);
+      wholeVolume->SetOrigin(piece->GetOrigin());
+      wholeVolume->SetSpacing(piece->GetSpacing());
+      wholeVolume->SetDirectionMatrix(piece->GetDirectionMatrix());
+      wholeVolume->AllocateScalars(
+        pieceScalars->GetDataType(), pieceScalars->GetNumberOfComponents());
+      wholeVolume->GetPointData()->GetScalars()->SetName(pieceScalars->GetName());
+      covered.assign(static_cast<std::size_t>(wholeVolume->GetNumberOfPoints()), 0);
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      failed =
+        failed || pieceExtent[2 * a] < whole[2 * a] || pieceExtent[2 * a + 1] > whole[2 * a + 1];
+    }
+    if (failed || pieceScalars->GetDataType() != wholeVolume->GetScalarType() ||
+      pieceScalars->GetNumberOfComponents() != wholeVolume->GetNumberOfScalarComponents())
+    {
+      failed = true;
+      continue;
+    }
+    wholeVolume->CopyAndCastFrom(piece, pieceExtent);
+    for (int k = pieceExtent[4]; k <= pieceExtent[5]; ++k)
+    {
+      for (int j = pieceExtent[2]; j <= pieceExtent[3]; ++j)
+      {
+        int ijk[3] = { pieceExtent[0], j, k };
+        const vtkIdType first = wholeVolume->ComputePointId(ijk);
+        std::fill_n(covered.begin() + first, pieceExtent[1] - pieceExtent[0] + 1, 1);
+      }
+    }
+  }
+  if (failed || covered.empty() || std::find(covered.begin(), covered.end(), 0) != covered.end())
+  {
+    vtkErrorMacro(<< "The volume's pieces on the " << controller->GetNumberOfProcesses()
+                  << " processes do not assemble into its whole extent (" << whole[0] << ".."
+                  << whole[1] << ", " << whole[2] << ".." << whole[3] << ", " << whole[4] << ".."
+                  << whole[5] << "): give the volume port a producer of its own.");
+    return nullptr;
+  }
+  return wholeVolume;
 }
 
 void vtkPVVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)

@@ -7,7 +7,12 @@
  * up, view angle and projection as properties) and the volume property
  * (ParaView's colour and opacity transfer-function proxies, linear
  * interpolation). Everything else is vtkVolumeOnSurfaceFilter's, including
- * its piece handling: the surface's piece, the whole volume.
+ * its piece handling (the surface's piece, the whole volume), but one case:
+ * when the volume's producer also feeds the surface's branch (reader ->
+ * contour, reader -> this filter), each process receives only its piece of
+ * the volume, and this filter gathers the pieces of all processes of the
+ * global controller into the whole volume (every process then holds it, as
+ * with a producer of its own).
  *
  * @sa vtkVolumeOnSurfaceFilter
  */
@@ -53,6 +58,9 @@ public:
 protected:
   vtkPVVolumeOnSurfaceFilter();
   ~vtkPVVolumeOnSurfaceFilter() override;
+
+  vtkSmartPointer<vtkImageData> AssembleVolume(
+    vtkImageData* received, vtkInformation* volumeInfo) override;
 
 private:
   vtkPVVolumeOnSurfaceFilter(const vtkPVVolumeOnSurfaceFilter&) = delete;
