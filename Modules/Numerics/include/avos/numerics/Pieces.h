@@ -271,8 +271,10 @@ private:
   //                 <= f'''(y) min((z - x) w^2 / 2, w^3 / (12 sqrt 3)) / 6,
   //   f(z) >= f(x) + f'(x)(z - x) >= max(f(x), (z - x) / (1 - x)),
   // so the relative error is at most min(w^2 (1 - x) / (6 (1 - y)^3),
-  // w^3 / (36 sqrt 3 (1 - y)^3 f(x))). Each cut takes the longest [x, y] (by
-  // halving from hi) that satisfies it.
+  // w^3 / (36 sqrt 3 (1 - y)^3 f(x))), which grows with w. Each cut takes
+  // the longest [x, y] that satisfies it, within 2^-30 of its width: halving
+  // from hi until the bound holds, then bisecting between that width and
+  // twice it (fixed numbers of steps: the loop ends).
   static std::vector<Real> AlphaCuts(Real lo, Real hi, Real r)
   {
     std::vector<Real> cuts{ lo };
@@ -285,19 +287,28 @@ private:
       {
         break;
       }
-      const Real top = std::min(hi, opaque);
-      Real w = top - x;
-      for (int k = 0; k < 200; ++k)
+      auto holds = [&](Real w)
       {
         const Real y = x + w;
         const Real q = (Real(1) - y) * (Real(1) - y) * (Real(1) - y);
         const Real nearX = w * w * (Real(1) - x) / (Real(6) * q);
         const Real overall = fx > Real(0) ? w * w * w / (Real(62.353829072479584) * q * fx) : nearX;
-        if (q > Real(0) && std::min(nearX, overall) <= r)
-        {
-          break;
-        }
+        return q > Real(0) && std::min(nearX, overall) <= r;
+      };
+      Real w = std::min(hi, opaque) - x;
+      int halvings = 0;
+      for (; halvings < 200 && !holds(w); ++halvings)
+      {
         w *= Real(0.5);
+      }
+      if (halvings > 0 && holds(w))
+      {
+        Real fails = Real(2) * w; // the longest width lies in [w, fails)
+        for (int k = 0; k < 30; ++k)
+        {
+          const Real middle = Real(0.5) * (w + fails);
+          (holds(middle) ? w : fails) = middle;
+        }
       }
       const Real y = x + w;
       if (!(y > x))
