@@ -49,6 +49,22 @@ an::PiecewiseTransferFunction<double> Prepare(const an::TransferFunction<double>
   return p;
 }
 
+// VTK's alpha model (unit distance 2) with a ramp up to opaque.
+an::TransferFunction<double> RampToOpaque()
+{
+  an::TransferFunction<double> tf;
+  tf.AddOpacityKnot(0.0, 0.0);
+  tf.AddOpacityKnot(80.0, 0.05);
+  tf.AddOpacityKnot(150.0, 0.9);
+  tf.AddOpacityKnot(200.0, 1.0);
+  tf.AddOpacityKnot(255.0, 0.3);
+  tf.AddColorKnot(0.0, 1.0, 0.0, 0.0);
+  tf.AddColorKnot(255.0, 0.0, 1.0, 1.0);
+  tf.SetOpacityModel(an::OpacityModel::Alpha, 2.0);
+  tf.Finalize();
+  return tf;
+}
+
 // A random ray through the box of `dims`: origin, unit direction, length.
 adversarial::Ray RandomRay(const int dims[3], std::mt19937& rng)
 {
@@ -176,16 +192,7 @@ TEST(Piecewise, AlphaModelHoldsTolerance)
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const std::vector<double> data = Grid(dims, [&](int, int, int) { return 255.0 * u(rng); });
   const Volume volume(data.data(), dims);
-  an::TransferFunction<double> tf;
-  tf.AddOpacityKnot(0.0, 0.0);
-  tf.AddOpacityKnot(80.0, 0.05);
-  tf.AddOpacityKnot(150.0, 0.9);
-  tf.AddOpacityKnot(200.0, 1.0); // a ramp to opaque
-  tf.AddOpacityKnot(255.0, 0.3);
-  tf.AddColorKnot(0.0, 1.0, 0.0, 0.0);
-  tf.AddColorKnot(255.0, 0.0, 1.0, 1.0);
-  tf.SetOpacityModel(an::OpacityModel::Alpha, 2.0);
-  tf.Finalize();
+  const an::TransferFunction<double> tf = RampToOpaque();
   for (double eps : { 1e-2, 1e-3, 1e-4 })
   {
     const auto ptf = Prepare(tf, eps);
@@ -211,15 +218,7 @@ TEST(Piecewise, AlphaModelHoldsTolerance)
 // (Pieces.h), sampled densely on every piece, for several r.
 TEST(Piecewise, AlphaExtinctionWithinRelativeError)
 {
-  an::TransferFunction<double> tf;
-  tf.AddOpacityKnot(0.0, 0.0);
-  tf.AddOpacityKnot(80.0, 0.05);
-  tf.AddOpacityKnot(150.0, 0.9);
-  tf.AddOpacityKnot(200.0, 1.0); // a ramp to opaque
-  tf.AddOpacityKnot(255.0, 0.3);
-  tf.AddColorKnot(0.0, 1.0, 0.0, 0.0);
-  tf.SetOpacityModel(an::OpacityModel::Alpha, 2.0);
-  tf.Finalize();
+  const an::TransferFunction<double> tf = RampToOpaque();
   const double flat = an::PiecewiseTransferFunction<double>::FlatDepth / 2.0;
   for (double r : { 1.25e-3, 1.25e-4, 1.25e-5 })
   {
