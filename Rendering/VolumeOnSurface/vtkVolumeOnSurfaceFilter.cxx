@@ -7,6 +7,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMath.h"
+#include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -21,6 +22,7 @@
 #include "avosVolumeRay.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -41,7 +43,12 @@ struct PrevisualizationKey
   bool Extinction = false;
   bool Skipping = false;
   vtkMTimeType Surface = 0;
-  vtkMTimeType Volume = 0;
+  // The volume by its content (scalars, extent, geometry), not by the image
+  // object's MTime: ParaView modifies the volume's point data on every
+  // update of the filter while its scalars array stays the same.
+  vtkMTimeType VolumeScalars = 0;
+  std::array<int, 6> VolumeExtent{};
+  std::array<double, 15> VolumeGeometry{}; // origin, spacing, direction
   vtkMTimeType Property = 0;
 
   bool operator==(const PrevisualizationKey& o) const
@@ -49,8 +56,9 @@ struct PrevisualizationKey
     return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone && this->Flip == o.Flip &&
       this->Method == o.Method && this->SampleDistance == o.SampleDistance &&
       this->Tolerance == o.Tolerance && this->Extinction == o.Extinction &&
-      this->Skipping == o.Skipping && this->Surface == o.Surface && this->Volume == o.Volume &&
-      this->Property == o.Property;
+      this->Skipping == o.Skipping && this->Surface == o.Surface &&
+      this->VolumeScalars == o.VolumeScalars && this->VolumeExtent == o.VolumeExtent &&
+      this->VolumeGeometry == o.VolumeGeometry && this->Property == o.Property;
   }
 };
 
@@ -307,7 +315,12 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   key.Extinction = this->ExtinctionOpacity != 0;
   key.Skipping = this->EmptySpaceSkipping != 0;
   key.Surface = surface->GetMTime();
-  key.Volume = volume->GetMTime();
+  vtkDataArray* volumeScalars = volume->GetPointData()->GetScalars();
+  key.VolumeScalars = volumeScalars ? volumeScalars->GetMTime() : 0;
+  volume->GetExtent(key.VolumeExtent.data());
+  volume->GetOrigin(key.VolumeGeometry.data());
+  volume->GetSpacing(key.VolumeGeometry.data() + 3);
+  std::copy_n(volume->GetDirectionMatrix()->GetData(), 9, key.VolumeGeometry.data() + 6);
   key.Property = this->VolumeProperty->GetMTime();
   if (!in.HaveRays || !(key == in.Key))
   {
@@ -409,6 +422,10 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       return 1;
     }
     in.Key = key;
+    // Read again after the transfer functions were: a
+    // vtkDiscretizableColorTransferFunction (ParaView's colour maps) builds
+    // its table on first use, which modifies it without changing a value.
+    in.Key.Property = this->VolumeProperty->GetMTime();
     in.HaveRays = true;
     this->NumberOfRaysCast = n * raysPerVertex;
   }

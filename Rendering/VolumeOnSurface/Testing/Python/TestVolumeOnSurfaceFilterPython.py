@@ -1,6 +1,7 @@
 """vtkVolumeOnSurfaceFilter in a wrapped pipeline: source -> vtkFlyingEdges3D ->
 vtkOpenMeshDecimation -> VoS^M. Every vertex gets a colour array entry, a
-camera change only reassigns, and the memory report adds up. The mapper's
+camera change only reassigns (also when the volume's image was touched but
+its scalars were not), and the memory report adds up. The mapper's
 settings of this round are wrapped (screen density, visibility test)."""
 
 import avos
@@ -58,6 +59,20 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         camera.Azimuth(30)
         vos.Update()
         self.assertEqual(vos.GetNumberOfRaysCast(), 0)
+        # The volume is recognised by its content: a pipeline that touches
+        # the image (ParaView modifies its point data on every update) with
+        # the same scalars casts nothing again.
+        volume.GetOutput().GetPointData().Modified()
+        camera.Azimuth(30)
+        vos.Update()
+        self.assertEqual(vos.GetNumberOfRaysCast(), 0)
+        # Another volume under the same surface does.
+        other = avos.vtkAnalyticVolumeSource()
+        other.SetFunctionToSphereDistance()
+        other.SetDimensions(40, 40, 40)
+        vos.SetVolumeConnection(other.GetOutputPort())
+        vos.Update()
+        self.assertEqual(vos.GetNumberOfRaysCast(), 12 * n)
 
     def test_mapper_settings(self):
         mapper = avos.vtkVolumeOnSurfaceMapper()
