@@ -5,8 +5,10 @@ cells are copies, never counted twice), the decimated triangles are within
 two triangles), every vertex coloured by Volume on Surface on several ranks
 has the colour the one-process run gives the vertex at the same position
 (the whole volume is on every rank; vertices are compared where both runs
-kept them), and the runs on several ranks did meet ghost cells and piece
-borders (so the distributed path was exercised).
+kept them), a camera change casts no ray again on any rank count (the
+volume gathered from the pieces is reused, not gathered anew), and the runs
+on several ranks did meet ghost cells and piece borders (so the distributed
+path was exercised).
   python3 ComparePieces.py ranks-1.json ranks-2.json [ranks-4.json ...]
 """
 
@@ -46,9 +48,15 @@ for run, coloured in zip(runs[1:], maps[1:]):
         (abs(run["decimated"] - one["decimated"]) <= 2 * n,
          "decimated triangles within 2 per piece of one process's"),
         (run["ghost"] > 0 and run["border"] > 0, "ghost cells and borders met"),
+        (run["cast"] > 0 and run["recast"] == 0, "no ray cast again after a camera change "
+         "(%d rays, then %d)" % (run["cast"], run["recast"])),
     ]
     for ok, what in checks:
         if not ok:
             failures += 1
             print("FAIL %d ranks: %s" % (n, what))
+if not (one["cast"] > 0 and one["recast"] == 0):
+    failures += 1
+    print("FAIL 1 rank: rays cast again after a camera change (%d, then %d)" % (
+        one["cast"], one["recast"]))
 sys.exit(1 if failures or one["ranks"] != 1 else 0)

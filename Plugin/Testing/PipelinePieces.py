@@ -45,6 +45,8 @@ vos = VolumeonSurface(  # noqa: F821
     CameraFocalPoint=[32.0, 32.0, 32.0])
 vos.UpdatePipeline()
 decimate.UpdatePipeline()
+vos.UpdatePropertyInformation()
+cast = vos.GetPropertyValue("NumberOfRaysCast")
 
 
 def local(proxy):
@@ -72,7 +74,15 @@ for i in sorted(owned):  # the points of this rank's own triangles
     vertices.append(list(coloured.GetPoint(i)) + [rgba.GetValue(4 * i + c) for c in range(4)])
 with open("%s.rank%d.json" % (out, rank), "w") as f:
     json.dump(vertices, f)
-mine = [ownedCells, surface.GetNumberOfCells() - ownedCells, decimated, border]
+# A new camera: the cone rays are cast again only if the volume changed,
+# and the gathered volume must not look changed (it is reused).
+vos.CameraPosition = [60.0, 40.0, 240.0]
+vos.UpdatePipeline()
+vos.UpdatePropertyInformation()
+recast = vos.GetPropertyValue("NumberOfRaysCast")
+print("rank %d of %d: %d rays cast, %d after a camera change" % (rank, ranks, cast, recast),
+      flush=True)
+mine = [ownedCells, surface.GetNumberOfCells() - ownedCells, decimated, border, cast, recast]
 print("rank %d of %d: contour %d owned + %d ghost triangles, %d border vertices; "
       "decimated %d triangles; %d vertices coloured" % (rank, ranks, mine[0], mine[1], mine[3],
                                                          mine[2], len(vertices)), flush=True)
@@ -86,9 +96,10 @@ if controller and ranks > 1:
         send.InsertNextValue(v)
     receive = vtkIdTypeArray()
     controller.Reduce(send, receive, 2, 0)  # 2: sum
-    totals = [receive.GetValue(i) for i in range(4)] if rank == 0 else totals
+    totals = [receive.GetValue(i) for i in range(len(mine))] if rank == 0 else totals
 if rank == 0:
     with open(out, "w") as f:
         json.dump({"ranks": ranks, "owned": totals[0], "ghost": totals[1],
-                   "decimated": totals[2], "border": totals[3]}, f)
+                   "decimated": totals[2], "border": totals[3], "cast": totals[4],
+                   "recast": totals[5]}, f)
     print("totals: %s" % totals, flush=True)

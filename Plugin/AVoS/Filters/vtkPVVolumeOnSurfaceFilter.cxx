@@ -15,9 +15,26 @@
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
+#include <cstring>
 #include <vector>
 
 vtkStandardNewMacro(vtkPVVolumeOnSurfaceFilter);
+
+namespace
+{
+// The same extent, origin, spacing and direction.
+bool SameGrid(vtkImageData* a, vtkImageData* b)
+{
+  int ea[6], eb[6];
+  a->GetExtent(ea);
+  b->GetExtent(eb);
+  const double* da = a->GetDirectionMatrix()->GetData();
+  const double* db = b->GetDirectionMatrix()->GetData();
+  return std::equal(ea, ea + 6, eb) &&
+    std::equal(a->GetOrigin(), a->GetOrigin() + 3, b->GetOrigin()) &&
+    std::equal(a->GetSpacing(), a->GetSpacing() + 3, b->GetSpacing()) && std::equal(da, da + 9, db);
+}
+} // namespace
 
 vtkPVVolumeOnSurfaceFilter::vtkPVVolumeOnSurfaceFilter()
 {
@@ -82,22 +99,37 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
     received->GetExtent(extent);
   }
   // Every process takes part in the same collectives, whatever it holds:
-  // first, whether any process holds a part only.
-  int part = received && hasWhole && !std::equal(extent, extent + 6, whole) ? 1 : 0;
-  int anyPart = part;
+  // whether any process holds a part only, and whether any piece changed
+  // since the volume was last kept (a piece changed when its scalars did:
+  // ParaView modifies the image's point data on every update while the
+  // scalars array stays the same).
+  vtkDataArray* scalars = received ? received->GetPointData()->GetScalars() : nullptr;
+  const vtkMTimeType pieceTime = scalars ? scalars->GetMTime() : 0;
+  const int local[2] = { received && hasWhole && !std::equal(extent, extent + 6, whole) ? 1 : 0,
+    this->Kept && pieceTime == this->KeptFrom ? 0 : 1 };
+  int any[2] = { local[0], local[1] };
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
-    controller->AllReduce(&part, &anyPart, 1, vtkCommunicator::MAX_OP);
+    controller->AllReduce(local, any, 2, vtkCommunicator::MAX_OP);
   }
-  if (!anyPart || !controller)
+  if (!any[0] || !controller)
   {
-    return this->Superclass::AssembleVolume(received, volumeInfo);
+    const vtkSmartPointer<vtkImageData> volume =
+      this->Superclass::AssembleVolume(received, volumeInfo);
+    if (!volume)
+    {
+      return nullptr; // the superclass said why
+    }
+    return local[1] ? this->Keep(volume, pieceTime) : this->Kept.GetPointer();
+  }
+  if (!any[1])
+  {
+    return this->Kept;
   }
 
   // Each process in turn broadcasts its piece (its scalars only); every
   // process copies each piece into its place in the whole extent and counts
   // the points covered.
-  vtkDataArray* scalars = received ? received->GetPointData()->GetScalars() : nullptr;
   auto wholeVolume = vtkSmartPointer<vtkImageData>::New();
   std::vector<unsigned char> covered;
   bool failed = false;
@@ -168,9 +200,31 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
                   << " processes do not assemble into its whole extent (" << whole[0] << ".."
                   << whole[1] << ", " << whole[2] << ".." << whole[3] << ", " << whole[4] << ".."
                   << whole[5] << "): give the volume port a producer of its own.");
+    this->Kept = nullptr;
     return nullptr;
   }
-  return wholeVolume;
+  return this->Keep(wholeVolume, pieceTime);
+}
+
+vtkImageData* vtkPVVolumeOnSurfaceFilter::Keep(vtkImageData* volume, vtkMTimeType pieceTime)
+{
+  this->KeptFrom = pieceTime;
+  // The same values again (a piece produced anew for another consumer of
+  // the reader, or the whole volume received where it was gathered before):
+  // the volume kept stays, so that nothing downstream sees it changed.
+  vtkDataArray* before = this->Kept ? this->Kept->GetPointData()->GetScalars() : nullptr;
+  vtkDataArray* now = volume->GetPointData()->GetScalars();
+  if (before && now && SameGrid(this->Kept, volume) &&
+    before->GetDataType() == now->GetDataType() &&
+    before->GetNumberOfComponents() == now->GetNumberOfComponents() &&
+    before->GetNumberOfTuples() == now->GetNumberOfTuples() &&
+    std::memcmp(before->GetVoidPointer(0), now->GetVoidPointer(0),
+      static_cast<std::size_t>(now->GetDataSize()) * now->GetDataTypeSize()) == 0)
+  {
+    return this->Kept;
+  }
+  this->Kept = volume;
+  return volume;
 }
 
 void vtkPVVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)

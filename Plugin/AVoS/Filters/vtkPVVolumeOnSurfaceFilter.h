@@ -12,7 +12,7 @@
  * contour, reader -> this filter), each process receives only its piece of
  * the volume, and this filter gathers the pieces of all processes of the
  * global controller into the whole volume (every process then holds it, as
- * with a producer of its own).
+ * with a producer of its own), again only when a piece changed.
  *
  * @sa vtkVolumeOnSurfaceFilter
  */
@@ -68,6 +68,13 @@ private:
 
   vtkNew<vtkCamera> OwnCamera;
   vtkNew<vtkVolumeProperty> OwnProperty;
+  // The volume last used (gathered, or received whole), and the
+  // modification time of this process's scalars then: reused while no
+  // process's piece changed, and kept when a new one holds the same values,
+  // so that a camera change casts no ray again.
+  vtkImageData* Keep(vtkImageData* volume, vtkMTimeType pieceTime);
+  vtkSmartPointer<vtkImageData> Kept;
+  vtkMTimeType KeptFrom = 0;
 };
 
 #endif
