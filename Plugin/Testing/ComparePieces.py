@@ -6,7 +6,7 @@ two triangles), every vertex coloured by Volume on Surface on several ranks
 has the colour the one-process run gives the vertex at the same position
 (the whole volume is on every rank; vertices are compared where both runs
 kept them), a camera change casts no ray again on any rank count (the
-volume gathered from the pieces is reused, not gathered anew), and the runs
+volume used before, gathered or whole, is kept), and the runs
 on several ranks did meet ghost cells and piece borders (so the distributed
 path was exercised).
   python3 ComparePieces.py ranks-1.json ranks-2.json [ranks-4.json ...]
