@@ -13,18 +13,18 @@
 // holds no knot is one piece: no root is sought there, and a cell whose
 // range the transfer function makes transparent costs its corners only.
 //
-// PiecewiseTransferFunction gives C linear and tau quadratic in s on each
-// piece (so the optical depth along a piece stays the integral of a
+// PiecewiseTransferFunction gives C linear and tau at most a cubic in s on
+// each piece (so the optical depth along a piece stays the integral of a
 // polynomial). In the extinction model the knots are tau already: linear. In
 // VTK's alpha model tau = -ln(1 - alpha) / d is not a polynomial in s; each
-// linear alpha segment is cut at extra knots so that the quadratic
-// interpolating tau at both ends and the middle of each cut is within a
-// relative error r of the true tau everywhere. A relative error r in tau
-// changes every channel of a ray by at most 2 r (1 + O(r)) (see
-// PiecewiseIntegrator.h), whatever the ray. Alpha values of 1 and above are
-// opaque (tau = 40 / d, as in TransferFunction); the extra knots stop where
-// tau reaches 36 / d (1 - alpha below 2.3e-16), and the chord from there up
-// to the opaque value is within 11 %.
+// linear alpha segment is cut at extra knots so that the polynomial
+// interpolating tau on each cut (a quadratic, or a cubic where that allows a
+// cut more than 4 / 3 as long) is within a relative error r of the true tau
+// everywhere. A relative error r in tau changes every channel of a ray by at
+// most 2 r (1 + O(r)) (see PiecewiseIntegrator.h), whatever the ray. Alpha
+// values of 1 and above are opaque (tau = 40 / d, as in TransferFunction);
+// the extra knots stop where tau reaches 36 / d (1 - alpha below 2.3e-16),
+// and the chord from there up to the opaque value is within 11 %.
 //
 // Bounds (termination). A ray segment of the volume's box crosses at most
 // nx + ny + nz cells; a cell's cubic has at most 3 monotone stretches, and a
@@ -39,6 +39,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -58,14 +59,15 @@ class PiecewiseTransferFunction
 public:
   using Color = glm::vec<3, Real>;
 
-  // tau(s) = Tau + TauSlope d + TauCurvature d^2, C(s) = Colour + ColourSlope d,
-  // d = s - Start.
+  // tau(s) = Tau + TauSlope d + TauCurvature d^2 + TauCubic d^3,
+  // C(s) = Colour + ColourSlope d, d = s - Start.
   struct Piece
   {
     Real Start;
     Real Tau;
     Real TauSlope;
     Real TauCurvature;
+    Real TauCubic;
     Color Colour;
     Color ColourSlope;
   };
@@ -105,21 +107,21 @@ public:
     }
     // Below the first knot: the first values, constant.
     this->Pieces.push_back({ pieces.front().Start, tf.ToExtinction(tf.GetOpacityBelow()), Real(0),
-      Real(0), tf.GetColorBelow(), Color(Real(0)) });
+      Real(0), Real(0), tf.GetColorBelow(), Color(Real(0)) });
     for (const auto& p : pieces)
     {
       const Real a0 = p.Opacity;
       const Real a1 = p.Length > Real(0) ? p.OpacitySlope : Real(0);
       if (!alpha || a1 == Real(0))
       {
-        this->Add(knots, p.Start, tf.ToExtinction(a0), alpha ? Real(0) : a1, Real(0), p.Colour,
-          p.ColourSlope);
+        this->Add(knots, p.Start, { tf.ToExtinction(a0), alpha ? Real(0) : a1, Real(0), Real(0) },
+          p.Colour, p.ColourSlope);
         continue;
       }
       // The alpha model on a sloped segment: extra knots, in alpha from the
       // low end to the high end, then laid out in s.
       const Real aEnd = a0 + a1 * p.Length;
-      std::vector<Real> cuts = AlphaCuts(std::min(a0, aEnd), std::max(a0, aEnd), relativeError);
+      std::vector<AlphaCut> cuts = AlphaCuts(std::min(a0, aEnd), std::max(a0, aEnd), relativeError);
       if (knots.size() + cuts.size() > MaximumKnots)
       {
         return "the alpha model needs too many knots for that tolerance";
@@ -132,27 +134,43 @@ public:
       for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
       {
         // In alpha, u = alpha - x over the cut [x, y] (w = y - x < 0 where
-        // alpha falls along s): tau = fx + A u + B u^2 through x, the middle
-        // and y; the chord where tau nears the opaque clamp. In s,
-        // u = a1 (s - start).
-        const Real x = cuts[k], y = cuts[k + 1], w = y - x;
+        // alpha falls along s): tau = fx + A u + B u^2 + C u^3 through
+        // u = 0, w / 3, 2 w / 3 and w (Newton's forward differences, step
+        // h = w / 3), or fx + A u + B u^2 through 0, w / 2 and w; the chord
+        // where tau nears the opaque clamp. In s, u = a1 (s - start). A cut's
+        // flag is at its lower end in alpha.
+        const Real x = cuts[k].At, y = cuts[k + 1].At, w = y - x;
+        const bool cubic = a1 > Real(0) ? cuts[k].Cubic : cuts[k + 1].Cubic;
         const Real s = k == 0 ? p.Start : p.Start + (x - a0) / a1;
         const Real fx = tf.ToExtinction(x), fy = tf.ToExtinction(y);
-        Real B = Real(0);
+        Real A = (fy - fx) / w, B = Real(0), C = Real(0);
         if (fx < flat && fy < flat && std::max(x, y) < Real(1))
         {
-          const Real fm = tf.ToExtinction(x + Real(0.5) * w);
-          B = Real(2) * (fx - Real(2) * fm + fy) / (w * w);
+          if (cubic)
+          {
+            const Real h = w / Real(3);
+            const Real f1 = tf.ToExtinction(x + h), f2 = tf.ToExtinction(x + Real(2) * h);
+            const Real d1 = f1 - fx, d2 = f2 - Real(2) * f1 + fx;
+            const Real d3 = fy - Real(3) * f2 + Real(3) * f1 - fx;
+            A = (d1 - d2 / Real(2) + d3 / Real(3)) / h;
+            B = (d2 - d3) / (Real(2) * h * h);
+            C = d3 / (Real(6) * h * h * h);
+          }
+          else
+          {
+            const Real fm = tf.ToExtinction(x + Real(0.5) * w);
+            B = Real(2) * (fx - Real(2) * fm + fy) / (w * w);
+            A = (fy - fx) / w - B * w;
+          }
         }
-        const Real A = (fy - fx) / w - B * w;
-        this->Add(knots, s, fx, A * a1, B * a1 * a1, p.Colour + p.ColourSlope * (s - p.Start),
-          p.ColourSlope);
+        this->Add(knots, s, { fx, A * a1, B * a1 * a1, C * a1 * a1 * a1 },
+          p.Colour + p.ColourSlope * (s - p.Start), p.ColourSlope);
       }
     }
     // Prefix counts of visible pieces: a piece is visible unless tau is zero
     // at both of its ends (tau is linear on it, or in the alpha model a
-    // quadratic through non-negative values that is zero at both ends only
-    // where alpha is).
+    // cubic within a relative error r < 1 of -ln(1 - alpha) / d, so zero at
+    // both ends only where alpha is).
     this->VisibleBefore.assign(1, 0);
     for (std::size_t i = 0; i < this->Pieces.size(); ++i)
     {
@@ -161,7 +179,7 @@ public:
       if (i + 1 < this->Pieces.size() && i > 0)
       {
         const Real d = knots[i] - p.Start;
-        end = p.Tau + d * (p.TauSlope + d * p.TauCurvature);
+        end = p.Tau + d * (p.TauSlope + d * (p.TauCurvature + d * p.TauCubic));
       }
       const bool visible = p.Tau > Real(0) || end > Real(0);
       this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
@@ -248,10 +266,11 @@ public:
   }
 
 private:
-  void Add(std::vector<Real>& knots, Real s, Real tau, Real tauSlope, Real tauCurvature,
-    const Color& colour, const Color& colourSlope)
+  // tau: the extinction's coefficients of 1, d, d^2, d^3.
+  void Add(std::vector<Real>& knots, Real s, const std::array<Real, 4>& tau, const Color& colour,
+    const Color& colourSlope)
   {
-    const Piece piece{ s, tau, tauSlope, tauCurvature, colour, colourSlope };
+    const Piece piece{ s, tau[0], tau[1], tau[2], tau[3], colour, colourSlope };
     if (!knots.empty() && s <= knots.back())
     {
       // A cut rounded onto its neighbour: the later piece starts there and
@@ -263,21 +282,41 @@ private:
     this->Pieces.push_back(piece);
   }
 
-  // Alpha values lo = x_0 < x_1 < ... < x_n = hi such that on each [x_k,
-  // x_k+1] the quadratic interpolating f(a) = -ln(1 - a) at the ends and the
-  // middle m is within a relative error r of f. For z in [x, y], w = y - x,
-  // f increasing with f''' = 2 / (1 - a)^3 increasing:
-  //   |p(z) - f(z)| <= f'''(y) / 6 |z - x| |z - m| |z - y|
-  //                 <= f'''(y) min((z - x) w^2 / 2, w^3 / (12 sqrt 3)) / 6,
-  //   f(z) >= f(x) + f'(x)(z - x) >= max(f(x), (z - x) / (1 - x)),
-  // so the relative error is at most min(w^2 (1 - x) / (6 (1 - y)^3),
-  // w^3 / (36 sqrt 3 (1 - y)^3 f(x))), which grows with w. Each cut takes
-  // the longest [x, y] that satisfies it, within 2^-30 of its width: halving
-  // from hi until the bound holds, then bisecting between that width and
-  // twice it (fixed numbers of steps: the loop ends).
-  static std::vector<Real> AlphaCuts(Real lo, Real hi, Real r)
+  // A cut of an alpha segment: where it starts (in alpha), and whether tau
+  // is a cubic on the interval from there to the next cut (else a
+  // quadratic).
+  struct AlphaCut
   {
-    std::vector<Real> cuts{ lo };
+    Real At;
+    bool Cubic;
+  };
+
+  // Alpha values lo = x_0 < x_1 < ... < x_n = hi such that on each [x_k,
+  // x_k+1] the polynomial interpolating f(a) = -ln(1 - a) is within a
+  // relative error r of f: the quadratic through x, the middle m and y, or
+  // the cubic through x, x + w / 3, x + 2 w / 3 and y (w = y - x). For z in
+  // [x, y], f(z) >= f(x) + f'(x)(z - x) >= max(f(x), (z - x) / (1 - x)) and
+  // f's derivatives increase (f''' = 2 / (1 - a)^3, f'''' = 6 / (1 - a)^4):
+  // - quadratic: |p(z) - f(z)| <= f'''(y) / 6 |z - x| |z - m| |z - y|
+  //     <= f'''(y) min((z - x) w^2 / 2, w^3 / (12 sqrt 3)) / 6, so the
+  //   relative error is at most min(w^2 (1 - x) / (6 (1 - y)^3),
+  //   w^3 / (36 sqrt 3 (1 - y)^3 f(x)));
+  // - cubic: with omega(z) = (z - x)(z - x - w / 3)(z - x - 2 w / 3)(z - y),
+  //   |p(z) - f(z)| <= f''''(y) / 24 |omega(z)| and |omega(z)| <=
+  //   min((z - x) 2 w^3 / 9, w^4 / 81) (the largest |(z - x - w / 3)
+  //   (z - x - 2 w / 3)(z - y)| is at z = x; the largest |omega| where
+  //   (z - x - w / 2)^2 = 5 w^2 / 36), so the relative error is at most
+  //   min(w^3 (1 - x) / (18 (1 - y)^4), w^4 / (324 (1 - y)^4 f(x))).
+  // Both bounds grow with w. Each cut takes the longest interval either
+  // allows (within 2^-30 of its width: halving from hi until the bound holds,
+  // then bisecting between that width and twice it; fixed numbers of steps),
+  // the quadratic's unless the cubic's is more than 4 / 3 as long: a cubic
+  // makes the piece's depth a polynomial of degree 10 instead of 7 in the
+  // ray parameter, dearer to integrate (PiecewiseIntegrator.h), which only
+  // fewer pieces repay.
+  static std::vector<AlphaCut> AlphaCuts(Real lo, Real hi, Real r)
+  {
+    std::vector<AlphaCut> cuts{ { lo, false } };
     const Real opaque = Real(1);
     Real x = lo;
     while (x < hi && cuts.size() < MaximumKnots)
@@ -287,7 +326,7 @@ private:
       {
         break;
       }
-      auto holds = [&](Real w)
+      auto quadratic = [&](Real w)
       {
         const Real y = x + w;
         const Real q = (Real(1) - y) * (Real(1) - y) * (Real(1) - y);
@@ -295,32 +334,47 @@ private:
         const Real overall = fx > Real(0) ? w * w * w / (Real(62.353829072479584) * q * fx) : nearX;
         return q > Real(0) && std::min(nearX, overall) <= r;
       };
-      Real w = std::min(hi, opaque) - x;
-      int halvings = 0;
-      for (; halvings < 200 && !holds(w); ++halvings)
+      auto cubic = [&](Real w)
       {
-        w *= Real(0.5);
-      }
-      if (halvings > 0 && holds(w))
+        const Real y = x + w;
+        const Real q = (Real(1) - y) * (Real(1) - y) * (Real(1) - y) * (Real(1) - y);
+        const Real nearX = w * w * w * (Real(1) - x) / (Real(18) * q);
+        const Real overall = fx > Real(0) ? w * w * w * w / (Real(324) * q * fx) : nearX;
+        return q > Real(0) && std::min(nearX, overall) <= r;
+      };
+      auto longest = [&](const auto& holds)
       {
-        Real fails = Real(2) * w; // the longest width lies in [w, fails)
-        for (int k = 0; k < 30; ++k)
+        Real w = std::min(hi, opaque) - x;
+        int halvings = 0;
+        for (; halvings < 200 && !holds(w); ++halvings)
         {
-          const Real middle = Real(0.5) * (w + fails);
-          (holds(middle) ? w : fails) = middle;
+          w *= Real(0.5);
         }
-      }
-      const Real y = x + w;
+        if (halvings > 0 && holds(w))
+        {
+          Real fails = Real(2) * w; // the longest width lies in [w, fails)
+          for (int k = 0; k < 30; ++k)
+          {
+            const Real middle = Real(0.5) * (w + fails);
+            (holds(middle) ? w : fails) = middle;
+          }
+        }
+        return w;
+      };
+      const Real byQuadratic = longest(quadratic), byCubic = longest(cubic);
+      const bool useCubic = byCubic > Real(4) / Real(3) * byQuadratic;
+      const Real y = x + (useCubic ? byCubic : byQuadratic);
       if (!(y > x))
       {
         break; // below the resolution of Real: the rest is one chord
       }
+      cuts.back().Cubic = useCubic;
       x = y;
-      cuts.push_back(x);
+      cuts.push_back({ x, false });
     }
-    if (cuts.back() < hi)
+    if (cuts.back().At < hi)
     {
-      cuts.push_back(hi);
+      cuts.push_back({ hi, false });
     }
     return cuts;
   }

@@ -12,10 +12,10 @@
 // known in closed form but one scalar integral:
 //
 // On a piece, v in [0, l] from its start, the scalar is s = Start + q(v) with
-// q a cubic, tau(v) = a + b q(v) + c q(v)^2 (c = 0 but in VTK's alpha model,
-// Pieces.h) and C(v) = c0 + c1 q(v).
+// q a cubic, tau(v) = a + b q(v) + c q(v)^2 + e q(v)^3 (c = e = 0 but in
+// VTK's alpha model, Pieces.h) and C(v) = c0 + c1 q(v).
 // - Inner integral (optical depth), exact: the integral of a polynomial,
-//     theta(v) = a v + b int_0^v q + c int_0^v q^2.
+//     theta(v) = a v + b int_0^v q + c int_0^v q^2 + e int_0^v q^3.
 // - Outer integral, by parts (d/dv e^{-theta} = -tau e^{-theta}):
 //     int C tau T = C(0) T(0) - C(l) T(l) + c1 T(0) J,
 //     J = int_0^l q'(v) e^{-theta(v)} dv,
@@ -128,32 +128,53 @@ constexpr Real PiecewiseReferenceTolerance()
 
 namespace detail
 {
-// theta(v) on a piece, the exact integral of tau = a + b q + c q^2 over
-// [0, v]: a polynomial of degree 7 in v, D[k] its coefficient of v^k.
+// theta(v) on a piece, the exact integral of tau = a + b q + c q^2 + e q^3
+// over [0, v]: a polynomial of degree up to 10 in v (4 when c = e = 0), D[k]
+// its coefficient of v^k.
 template <typename Real>
 struct PieceDepth
 {
-  Real D[8];
+  static constexpr int MaximumDegree = 10;
+  Real D[MaximumDegree + 1];
 
-  PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c)
+  PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c, Real e)
   {
+    static constexpr Real inverse[11] = { Real(0), Real(1), Real(1) / Real(2), Real(1) / Real(3),
+      Real(1) / Real(4), Real(1) / Real(5), Real(1) / Real(6), Real(1) / Real(7), Real(1) / Real(8),
+      Real(1) / Real(9), Real(1) / Real(10) };
+    const Real* k = q.K;
     this->D[0] = Real(0);
-    this->D[1] = a + b * q.K[0];
-    this->D[2] = b * q.K[1] / Real(2);
-    this->D[3] = b * q.K[2] / Real(3);
-    this->D[4] = b * q.K[3] / Real(4);
+    this->D[1] = a + b * k[0];
+    this->D[2] = b * k[1] * inverse[2];
+    this->D[3] = b * k[2] * inverse[3];
+    this->D[4] = b * k[3] * inverse[4];
     this->Degree = 4;
-    if (c != Real(0))
+    if (c == Real(0) && e == Real(0))
     {
-      const Real* k = q.K;
-      const Real square[7] = { k[0] * k[0], Real(2) * k[0] * k[1],
-        Real(2) * k[0] * k[2] + k[1] * k[1], Real(2) * (k[0] * k[3] + k[1] * k[2]),
-        Real(2) * k[1] * k[3] + k[2] * k[2], Real(2) * k[2] * k[3], k[3] * k[3] };
+      return;
+    }
+    // tau's coefficients of v^i beyond b q: c q^2 + e q^3.
+    const Real square[7] = { k[0] * k[0], Real(2) * k[0] * k[1],
+      Real(2) * k[0] * k[2] + k[1] * k[1], Real(2) * (k[0] * k[3] + k[1] * k[2]),
+      Real(2) * k[1] * k[3] + k[2] * k[2], Real(2) * k[2] * k[3], k[3] * k[3] };
+    this->Degree = e != Real(0) ? 10 : 7;
+    for (int i = 5; i <= this->Degree; ++i)
+    {
+      this->D[i] = Real(0);
+    }
+    for (int i = 0; i < 7; ++i)
+    {
+      this->D[i + 1] += c * square[i] * inverse[i + 1];
+    }
+    if (e != Real(0))
+    {
       for (int i = 0; i < 7; ++i)
       {
-        this->D[i + 1] = (i < 4 ? this->D[i + 1] : Real(0)) + c * square[i] / Real(i + 1);
+        for (int j = 0; j < 4; ++j)
+        {
+          this->D[i + j + 1] += e * square[i] * k[j] * inverse[i + j + 1];
+        }
       }
-      this->Degree = 7;
     }
   }
 
@@ -211,10 +232,13 @@ struct Reciprocals
 // |thetas_j|), whose sum at h is e^A. So truncating y after N terms errs by
 // at most e^A - sum_{k <= N} C_k h^k on [0, h], and the integral of q' times
 // the truncated series, exact, by h max|q'| times that. Terms are added until
-// the sub-interval's share `allowed(E(v), E(v + h), h)` is met (within 40
-// terms whenever A <= 1, since the tail is below e / 41!); a sub-interval
-// where A > 1 is halved first, and then grows back by doubling. Accepted and
-// halved sub-intervals are counted as steps in `stats`.
+// the sub-interval's share `allowed(E(v), E(v + h), h)` is met; a
+// sub-interval where A > 1 is halved first, and one whose 40 terms do not meet
+// its share is halved and taken again (a term of order k needs at least k / D
+// factors of A(w), D the depth's degree, so after N terms the tail is below
+// sum_{m > N / D} A^m / m!: e / 41! for D = 1, but 0.02 for D = 10); then
+// they grow back by doubling. Accepted and halved sub-intervals are counted as
+// steps in `stats`.
 // The most sub-intervals SeriesIntegral takes on a piece before it gives up
 // (returns NaN); the bound above allows 2^41 for extreme data.
 constexpr long MaximumSubintervals = 1L << 16;
@@ -236,7 +260,7 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       return std::numeric_limits<Real>::quiet_NaN();
     }
     h = std::min(h, l - v);
-    Real theta[8];
+    Real theta[PieceDepth<Real>::MaximumDegree + 1];
     std::copy(depth.D, depth.D + depth.Degree + 1, theta);
     ShiftPolynomial(theta, depth.Degree, v);
     Real g[3] = { q.K[1], Real(2) * q.K[2], Real(3) * q.K[3] }; // q'
@@ -273,21 +297,27 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     }
     const Real end = l - v <= h ? l : v + h;
     const Real Eh = end == l ? El : std::exp(-depth(end));
-    if (!(A <= Real(1)))
+    // Only for extreme data (a depth of 1, or a series that 40 terms do not
+    // settle, within l 2^-40): the proven midpoint of J's bounds on this
+    // sub-interval (see above).
+    auto midpoint = [&]()
     {
-      // Only for extreme data (a depth of 1 within l 2^-40): the proven
-      // midpoint of J's bounds on this sub-interval (see above).
       J += (q(end) - q(v)) * (Ev + Eh) / Real(2);
       stats.Accept(h);
       v = end;
       Ev = Eh;
+    };
+    if (!(A <= Real(1)))
+    {
+      midpoint();
       continue;
     }
     const Real gmax = std::abs(g[0]) + h * (std::abs(g[1]) + h * std::abs(g[2]));
     const Real limit = allowed(Ev, Eh, h);
     const Real whole = std::exp(A); // the dominating series' sum at h
     // j theta_j and its magnitude, the recursion's weights.
-    Real weight[8], magnitudeWeight[8];
+    Real weight[PieceDepth<Real>::MaximumDegree + 1],
+      magnitudeWeight[PieceDepth<Real>::MaximumDegree + 1];
     for (int j = 1; j <= depth.Degree; ++j)
     {
       weight[j] = Real(j) * theta[j];
@@ -298,13 +328,15 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     c[0] = Real(1);
     C[0] = Real(1);
     Real partial = Real(1), sum = Real(0), hk = Real(1); // hk = h^k
-    for (int k = 0;; ++k)
+    bool settled = false;
+    for (int k = 0; k <= MaximumTerms; ++k)
     {
       // int_0^h g(w) w^k dw for the term c_k w^k.
       sum += c[k] * hk * h *
         (g[0] * inverse.R[k + 1] + h * (g[1] * inverse.R[k + 2] + h * g[2] * inverse.R[k + 3]));
       const Real tail = std::max(whole - partial, Real(0));
-      if (Ev * h * gmax * tail <= limit || k == MaximumTerms)
+      settled = Ev * h * gmax * tail <= limit;
+      if (settled || k == MaximumTerms)
       {
         break;
       }
@@ -318,6 +350,19 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       C[k + 1] = nextMajorant * inverse.R[k + 1];
       hk *= h;
       partial += C[k + 1] * hk;
+    }
+    if (!settled)
+    {
+      if (h > floor)
+      {
+        ++stats.Rejected;
+        h = std::max(Real(0.5) * h, floor);
+      }
+      else
+      {
+        midpoint();
+      }
+      continue;
     }
     J += Ev * sum;
     stats.Accept(h);
@@ -380,7 +425,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     const auto& p = tf[piece.TF];
     const Cubic<Real>& q = piece.Q;
     const Real l = piece.Length;
-    const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature);
+    const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
     ++stats.Pieces;
     ++stats.Samples; // the piece's end
     stats.Accept(l);
