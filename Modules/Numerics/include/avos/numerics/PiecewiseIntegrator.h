@@ -50,18 +50,18 @@
 // Termination. Pieces per ray: see Pieces.h (at most 3 (m + 1) per cell
 // crossed). Per piece, a sub-interval is halved only while its depth's
 // coefficient magnitude A(h) = sum_j |theta_j| h^j (shifted to its start)
-// exceeds 1, and not below l 2^-40; the shifted coefficients are bounded by
-// those of the piece (shift by at most l), so A <= 1 for all h below a
-// constant h_A of the piece's data. Hence at most 2 l / max(h_A, l 2^-40) + 1
-// sub-intervals per piece, each after at most 40 halvings and with at most 40
-// series terms; and a piece stops as soon as what is left of J, at most its
-// transmittance times the variation of q over the rest, fits the rest's
-// share (at once when the transmittance underflows to 0). Since 2^41 steps
-// would never end in practice, a piece is refused (the ray reports an error)
-// beyond 2^16 sub-intervals: only data near 1e100 against knots near 1 needs
-// them (found by fuzzing).
-// A sample is one evaluation of the transfer function at an interpolated
-// scalar: one per piece (its end); the series needs none.
+// exceeds 1 or 40 series terms do not settle it, and not below l 2^-40; the
+// shifted coefficients are bounded by those of the piece (shift by at most
+// l), so A is below any bound for all h below a constant of the piece's data
+// (h_A for A <= 1; the 40 terms settle once A is small enough for the tail
+// bound to meet the share). Hence at most 2 l / max(h_A', l 2^-40) + 1
+// sub-intervals per piece, h_A' the smaller constant, each after at most 40
+// halvings and with at most 40 series terms; and a piece stops as soon as what is left of J, at
+// most its transmittance times the variation of q over the rest, fits the rest's share (at once
+// when the transmittance underflows to 0). Since 2^41 steps would never end in practice, a piece is
+// refused (the ray reports an error) beyond 2^16 sub-intervals: only data near 1e100 against knots
+// near 1 needs them (found by fuzzing). A sample is one evaluation of the transfer function at an
+// interpolated scalar: one per piece (its end); the series needs none.
 #ifndef avos_numerics_PiecewiseIntegrator_h
 #define avos_numerics_PiecewiseIntegrator_h
 
