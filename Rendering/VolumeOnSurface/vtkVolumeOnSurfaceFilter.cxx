@@ -190,6 +190,20 @@ int vtkVolumeOnSurfaceFilter::RequestUpdateExtent(
   return 1;
 }
 
+bool vtkVolumeOnSurfaceFilter::HoldsPart(
+  vtkImageData* received, vtkInformation* volumeInfo, int whole[6])
+{
+  if (!received || !volumeInfo ||
+    !volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    return false;
+  }
+  volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+  int extent[6];
+  received->GetExtent(extent);
+  return !std::equal(extent, extent + 6, whole);
+}
+
 vtkSmartPointer<vtkImageData> vtkVolumeOnSurfaceFilter::AssembleVolume(
   vtkImageData* received, vtkInformation* volumeInfo)
 {
@@ -197,21 +211,18 @@ vtkSmartPointer<vtkImageData> vtkVolumeOnSurfaceFilter::AssembleVolume(
   // that another consumer of the same producer output asked for a piece
   // later in the same update (one output holds one request): the rays would
   // end at the piece's border.
-  if (received && volumeInfo && volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  int whole[6];
+  if (HoldsPart(received, volumeInfo, whole))
   {
-    int whole[6], extent[6];
-    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
+    int extent[6];
     received->GetExtent(extent);
-    if (!std::equal(extent, extent + 6, whole))
-    {
-      vtkErrorMacro(<< "The volume holds extent (" << extent[0] << ".." << extent[1] << ", "
-                    << extent[2] << ".." << extent[3] << ", " << extent[4] << ".." << extent[5]
-                    << ") of (" << whole[0] << ".." << whole[1] << ", " << whole[2] << ".."
-                    << whole[3] << ", " << whole[4] << ".." << whole[5]
-                    << "): its producer also feeds a branch that asked for a piece. Give the "
-                       "volume port a producer of its own (for example a second reader).");
-      return nullptr;
-    }
+    vtkErrorMacro(<< "The volume holds extent (" << extent[0] << ".." << extent[1] << ", "
+                  << extent[2] << ".." << extent[3] << ", " << extent[4] << ".." << extent[5]
+                  << ") of (" << whole[0] << ".." << whole[1] << ", " << whole[2] << ".."
+                  << whole[3] << ", " << whole[4] << ".." << whole[5]
+                  << "): its producer also feeds a branch that asked for a piece. Give the "
+                     "volume port a producer of its own (for example a second reader).");
+    return nullptr;
   }
   return received;
 }

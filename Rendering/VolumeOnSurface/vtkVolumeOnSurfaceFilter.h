@@ -210,6 +210,12 @@ protected:
   virtual vtkSmartPointer<vtkImageData> AssembleVolume(
     vtkImageData* received, vtkInformation* volumeInfo);
 
+  /**
+   * Whether `received` holds a part only of the whole extent its information
+   * gives (stored in `whole`, left as it is when there is none).
+   */
+  static bool HoldsPart(vtkImageData* received, vtkInformation* volumeInfo, int whole[6]);
+
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCamera* Camera = nullptr;
   int RaysPerCone = 4;

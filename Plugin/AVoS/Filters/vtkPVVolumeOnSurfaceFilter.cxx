@@ -5,13 +5,11 @@
 #include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
-#include "vtkInformation.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
@@ -87,17 +85,8 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
   vtkImageData* received, vtkInformation* volumeInfo)
 {
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  const bool hasWhole =
-    volumeInfo && volumeInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
-  int whole[6] = { 0, -1, 0, -1, 0, -1 }, extent[6] = { 0, -1, 0, -1, 0, -1 };
-  if (hasWhole)
-  {
-    volumeInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), whole);
-  }
-  if (received)
-  {
-    received->GetExtent(extent);
-  }
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
+  const bool part = HoldsPart(received, volumeInfo, whole);
   // Every process takes part in the same collectives, whatever it holds:
   // whether any process holds a part only, and whether any piece changed
   // since the volume was last kept (a piece changed when its scalars did:
@@ -105,8 +94,7 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
   // scalars array stays the same).
   vtkDataArray* scalars = received ? received->GetPointData()->GetScalars() : nullptr;
   const vtkMTimeType pieceTime = scalars ? scalars->GetMTime() : 0;
-  const int local[2] = { received && hasWhole && !std::equal(extent, extent + 6, whole) ? 1 : 0,
-    this->Kept && pieceTime == this->KeptFrom ? 0 : 1 };
+  const int local[2] = { part ? 1 : 0, this->Kept && pieceTime == this->KeptFrom ? 0 : 1 };
   int any[2] = { local[0], local[1] };
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
@@ -142,7 +130,7 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
     {
       piece->CopyStructure(received);
       piece->GetPointData()->SetScalars(scalars);
-      std::copy(extent, extent + 6, pieceExtent);
+      received->GetExtent(pieceExtent);
       received->GetOrigin(geometry);
       received->GetSpacing(geometry + 3);
       std::copy_n(received->GetDirectionMatrix()->GetData(), 9, geometry + 6);
