@@ -197,6 +197,10 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
 vtkImageData* vtkPVVolumeOnSurfaceFilter::Keep(vtkImageData* volume, vtkMTimeType pieceTime)
 {
   this->KeptFrom = pieceTime;
+  if (volume == this->Kept)
+  {
+    return volume; // the same image, its scalars new: nothing to compare
+  }
   // The same values again (a piece produced anew for another consumer of
   // the reader, or the whole volume received where it was gathered before):
   // the volume kept stays, so that nothing downstream sees it changed.
