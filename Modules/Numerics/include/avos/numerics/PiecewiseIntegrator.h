@@ -128,6 +128,22 @@ constexpr Real PiecewiseReferenceTolerance()
 
 namespace detail
 {
+// 1 / k for k = 1 .. 47: divisions by small integers become products (the
+// depth polynomial's coefficients, the series' terms).
+template <typename Real>
+struct Reciprocals
+{
+  Real R[48];
+  constexpr Reciprocals()
+    : R()
+  {
+    for (int k = 1; k < 48; ++k)
+    {
+      this->R[k] = Real(1) / Real(k);
+    }
+  }
+};
+
 // theta(v) on a piece, the exact integral of tau = a + b q + c q^2 + e q^3
 // over [0, v]: a polynomial of degree up to 10 in v (4 when c = e = 0), D[k]
 // its coefficient of v^k.
@@ -139,9 +155,8 @@ struct PieceDepth
 
   PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c, Real e)
   {
-    static constexpr Real inverse[11] = { Real(0), Real(1), Real(1) / Real(2), Real(1) / Real(3),
-      Real(1) / Real(4), Real(1) / Real(5), Real(1) / Real(6), Real(1) / Real(7), Real(1) / Real(8),
-      Real(1) / Real(9), Real(1) / Real(10) };
+    static constexpr Reciprocals<Real> reciprocal{};
+    const Real* inverse = reciprocal.R;
     const Real* k = q.K;
     this->D[0] = Real(0);
     this->D[1] = a + b * k[0];
@@ -208,21 +223,6 @@ void ShiftPolynomial(Real* c, int degree, Real v0)
     }
   }
 }
-
-// 1 / k for k = 1 .. 47: the series' divisions become products.
-template <typename Real>
-struct Reciprocals
-{
-  Real R[48];
-  constexpr Reciprocals()
-    : R()
-  {
-    for (int k = 1; k < 48; ++k)
-    {
-      this->R[k] = Real(1) / Real(k);
-    }
-  }
-};
 
 // J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
 // shifted depth thetas(w) = theta(v + w) - theta(v) has
