@@ -62,6 +62,12 @@
 // refused (the ray reports an error) beyond 2^16 sub-intervals: only data near 1e100 against knots
 // near 1 needs them (found by fuzzing). A sample is one evaluation of the transfer function at an
 // interpolated scalar: one per piece (its end); the series needs none.
+//
+// Batches. The walk hands its pieces over in batches of PieceBatch::Capacity
+// (8), integrated by a kernel a batch at a time (ScalarPieceKernels here; the
+// engine's vectorised one takes a piece per SIMD lane), in order, so the
+// result is the same as piece by piece; only the walk may run up to 7 pieces
+// past the point where early termination stops the ray (never integrated).
 #ifndef avos_numerics_PiecewiseIntegrator_h
 #define avos_numerics_PiecewiseIntegrator_h
 
@@ -224,6 +230,76 @@ void ShiftPolynomial(Real* c, int degree, Real v0)
   }
 }
 
+// A = sum_j |theta_j| h^j, the dominating series' exponent at h.
+template <typename Real>
+Real Magnitude(const Real* theta, int degree, Real h)
+{
+  Real a = Real(0);
+  for (int j = degree; j >= 1; --j)
+  {
+    a = (a + std::abs(theta[j])) * h;
+  }
+  return a;
+}
+
+// The most terms of the series on one sub-interval.
+constexpr int MaximumTerms = 40;
+
+// One sub-interval of SeriesIntegral, [v, v + h] with v = 0 after the shift:
+// theta[1..degree] the shifted depth (A = Magnitude(theta, degree, h) <= 1),
+// g[0..2] the shifted q'. Adds terms of int_0^h g e^{-theta} until
+// Ev h max|g| (e^A - sum_{k <= N} C_k h^k) is within `limit`, at most
+// MaximumTerms + 1 of them; `sum` is the truncated integral. False when they
+// do not settle it.
+template <typename Real>
+bool SubintervalSeries(
+  const Real* theta, int degree, const Real g[3], Real h, Real A, Real Ev, Real limit, Real& sum)
+{
+  static constexpr Reciprocals<Real> inverse{};
+  const Real gmax = std::abs(g[0]) + h * (std::abs(g[1]) + h * std::abs(g[2]));
+  const Real whole = std::exp(A); // the dominating series' sum at h
+  // j theta_j and its magnitude, the recursion's weights.
+  Real weight[PieceDepth<Real>::MaximumDegree + 1],
+    magnitudeWeight[PieceDepth<Real>::MaximumDegree + 1];
+  for (int j = 1; j <= degree; ++j)
+  {
+    weight[j] = Real(j) * theta[j];
+    magnitudeWeight[j] = std::abs(weight[j]);
+  }
+  // c_k, C_k h^k, and the integral of g(w) w^k over [0, h] for each term.
+  Real c[MaximumTerms + 1], C[MaximumTerms + 1];
+  c[0] = Real(1);
+  C[0] = Real(1);
+  Real partial = Real(1), hk = Real(1); // hk = h^k
+  sum = Real(0);
+  for (int k = 0; k <= MaximumTerms; ++k)
+  {
+    // int_0^h g(w) w^k dw for the term c_k w^k.
+    sum += c[k] * hk * h *
+      (g[0] * inverse.R[k + 1] + h * (g[1] * inverse.R[k + 2] + h * g[2] * inverse.R[k + 3]));
+    const Real tail = std::max(whole - partial, Real(0));
+    if (Ev * h * gmax * tail <= limit)
+    {
+      return true;
+    }
+    if (k == MaximumTerms)
+    {
+      break;
+    }
+    Real next = Real(0), nextMajorant = Real(0);
+    for (int j = 1; j <= std::min(degree, k + 1); ++j)
+    {
+      next -= weight[j] * c[k + 1 - j];
+      nextMajorant += magnitudeWeight[j] * C[k + 1 - j];
+    }
+    c[k + 1] = next * inverse.R[k + 1];
+    C[k + 1] = nextMajorant * inverse.R[k + 1];
+    hk *= h;
+    partial += C[k + 1] * hk;
+  }
+  return false;
+}
+
 // J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
 // shifted depth thetas(w) = theta(v + w) - theta(v) has
 // A = sum_j |thetas_j| h^j <= 1. There y = e^{-thetas} is the power series
@@ -247,8 +323,6 @@ template <typename Real, typename Allowed>
 Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
   const Allowed& allowed, RayStatistics<Real>& stats)
 {
-  constexpr int MaximumTerms = 40;
-  static constexpr Reciprocals<Real> inverse{};
   Real J = Real(0);
   Real v = Real(0), h = l, Ev = Real(1);
   for (long count = 0; v < l; ++count)
@@ -278,22 +352,13 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       stats.Accept(rest);
       break;
     }
-    auto magnitude = [&](Real w)
-    {
-      Real a = Real(0);
-      for (int j = depth.Degree; j >= 1; --j)
-      {
-        a = (a + std::abs(theta[j])) * w;
-      }
-      return a;
-    };
     const Real floor = l * Real(9.094947017729282e-13); // 2^-40
-    Real A = magnitude(h);
+    Real A = Magnitude(theta, depth.Degree, h);
     while (A > Real(1) && h > floor)
     {
       ++stats.Rejected;
       h = std::max(Real(0.5) * h, floor);
-      A = magnitude(h);
+      A = Magnitude(theta, depth.Degree, h);
     }
     const Real end = l - v <= h ? l : v + h;
     const Real Eh = end == l ? El : std::exp(-depth(end));
@@ -312,46 +377,8 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       midpoint();
       continue;
     }
-    const Real gmax = std::abs(g[0]) + h * (std::abs(g[1]) + h * std::abs(g[2]));
-    const Real limit = allowed(Ev, Eh, h);
-    const Real whole = std::exp(A); // the dominating series' sum at h
-    // j theta_j and its magnitude, the recursion's weights.
-    Real weight[PieceDepth<Real>::MaximumDegree + 1],
-      magnitudeWeight[PieceDepth<Real>::MaximumDegree + 1];
-    for (int j = 1; j <= depth.Degree; ++j)
-    {
-      weight[j] = Real(j) * theta[j];
-      magnitudeWeight[j] = std::abs(weight[j]);
-    }
-    // c_k, C_k h^k, and the integral of g(w) w^k over [0, h] for each term.
-    Real c[MaximumTerms + 1], C[MaximumTerms + 1];
-    c[0] = Real(1);
-    C[0] = Real(1);
-    Real partial = Real(1), sum = Real(0), hk = Real(1); // hk = h^k
-    bool settled = false;
-    for (int k = 0; k <= MaximumTerms; ++k)
-    {
-      // int_0^h g(w) w^k dw for the term c_k w^k.
-      sum += c[k] * hk * h *
-        (g[0] * inverse.R[k + 1] + h * (g[1] * inverse.R[k + 2] + h * g[2] * inverse.R[k + 3]));
-      const Real tail = std::max(whole - partial, Real(0));
-      settled = Ev * h * gmax * tail <= limit;
-      if (settled || k == MaximumTerms)
-      {
-        break;
-      }
-      Real next = Real(0), nextMajorant = Real(0);
-      for (int j = 1; j <= std::min(depth.Degree, k + 1); ++j)
-      {
-        next -= weight[j] * c[k + 1 - j];
-        nextMajorant += magnitudeWeight[j] * C[k + 1 - j];
-      }
-      c[k + 1] = next * inverse.R[k + 1];
-      C[k + 1] = nextMajorant * inverse.R[k + 1];
-      hk *= h;
-      partial += C[k + 1] * hk;
-    }
-    if (!settled)
+    Real sum;
+    if (!SubintervalSeries(theta, depth.Degree, g, h, A, Ev, allowed(Ev, Eh, h), sum))
     {
       if (h > floor)
       {
@@ -374,11 +401,149 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
 }
 } // namespace detail
 
-template <typename Real, typename VolumeT>
+// The pieces of one ray, integrated a batch at a time: structures of arrays,
+// lane i for the batch's i-th piece, so that a vectorised kernel
+// (avos/engine/PieceKernels.h) takes a vector of pieces at once. The pieces
+// of a ray are independent but for the transmittance in front of each (which
+// scales J's share of the tolerance and decides early termination), so
+// IntegratePiecewise runs two stages on a batch, Depths then Series, and
+// composites between them, in order:
+// - Depths, per piece: theta's coefficients (PieceDepth) and e^{-theta(l)};
+// - Series, per piece whose J the midpoint bound does not settle: J on the
+//   whole piece as the first sub-interval of SeriesIntegral does it (the rest
+//   bound, then the series if A <= 1); a piece that this does not settle
+//   (Settled 0) goes to SeriesIntegral whole.
+// ScalarPieceKernels is the reference; a vectorised one computes the same
+// formulas in another order (fused multiply-adds, a vector exponential of
+// 1 ulp) and may differ from it by that rounding: relative 1e-13 in the
+// depth and transmittance, and in J unless a rounding tips a decision (one
+// series term more or less), where J stays within that piece's share of
+// the tolerance either way.
+template <typename Real>
+struct PieceBatch
+{
+  // A multiple of the widest vector of Real of any target (8 doubles).
+  static constexpr int Capacity = 8;
+  static constexpr int Block = 8;
+  static constexpr int Degree = detail::PieceDepth<Real>::MaximumDegree;
+  int Count = 0;
+  // In: q's coefficients, the length, tau's coefficients a, b, c, e.
+  alignas(64) Real Q[4][Capacity];
+  alignas(64) Real Length[Capacity];
+  alignas(64) Real Tau[4][Capacity];
+  // Out: theta's coefficients of v^1 .. v^Degree (Depth[0] unused: 0) and
+  // e^{-theta(l)}.
+  alignas(64) Real Depth[Degree + 1][Capacity];
+  alignas(64) Real Transmittance[Capacity];
+
+  // Lanes Count .. the next multiple of Block zeroed: a transparent piece of
+  // length 0, so that kernels may take whole vectors.
+  void Pad()
+  {
+    for (int i = this->Count; i < Capacity && i % Block != 0; ++i)
+    {
+      for (int k = 0; k < 4; ++k)
+      {
+        this->Q[k][i] = this->Tau[k][i] = Real(0);
+      }
+      this->Length[i] = Real(0);
+    }
+  }
+};
+
+template <typename Real>
+struct SeriesBatch
+{
+  static constexpr int Capacity = PieceBatch<Real>::Capacity;
+  static constexpr int Degree = PieceBatch<Real>::Degree;
+  int Count = 0;
+  // In: theta's coefficients, q' (K[1], 2 K[2], 3 K[3]), the length l,
+  // e^{-theta(l)}, and the share of the tolerance J may take on [0, h],
+  // allowed(1, E, h) = Scale (Front (1 - E) + h InverseLength).
+  alignas(64) Real Depth[Degree + 1][Capacity];
+  alignas(64) Real Slope[3][Capacity];
+  alignas(64) Real Length[Capacity];
+  alignas(64) Real Transmittance[Capacity];
+  alignas(64) Real Scale[Capacity];
+  alignas(64) Real Front[Capacity];
+  alignas(64) Real InverseLength[Capacity];
+  // Out: J, and 1 where it is settled (else 0, J undefined).
+  alignas(64) Real J[Capacity];
+  alignas(64) Real Settled[Capacity];
+
+  // As PieceBatch::Pad: a piece of length 0 with no share, settled at once.
+  void Pad()
+  {
+    for (int i = this->Count; i < Capacity && i % PieceBatch<Real>::Block != 0; ++i)
+    {
+      for (int k = 0; k <= Degree; ++k)
+      {
+        this->Depth[k][i] = Real(0);
+      }
+      for (int k = 0; k < 3; ++k)
+      {
+        this->Slope[k][i] = Real(0);
+      }
+      this->Length[i] = this->Scale[i] = this->Front[i] = this->InverseLength[i] = Real(0);
+      this->Transmittance[i] = Real(1);
+    }
+  }
+};
+
+template <typename Real>
+struct ScalarPieceKernels
+{
+  void Depths(PieceBatch<Real>& b) const
+  {
+    for (int i = 0; i < b.Count; ++i)
+    {
+      const Cubic<Real> q{ { b.Q[0][i], b.Q[1][i], b.Q[2][i], b.Q[3][i] } };
+      const detail::PieceDepth<Real> depth(q, b.Tau[0][i], b.Tau[1][i], b.Tau[2][i], b.Tau[3][i]);
+      for (int k = 1; k <= PieceBatch<Real>::Degree; ++k)
+      {
+        b.Depth[k][i] = k <= depth.Degree ? depth.D[k] : Real(0);
+      }
+      b.Transmittance[i] = std::exp(-depth(b.Length[i]));
+    }
+  }
+
+  void Series(SeriesBatch<Real>& b) const
+  {
+    for (int i = 0; i < b.Count; ++i)
+    {
+      const Real l = b.Length[i], E = b.Transmittance[i];
+      Real theta[SeriesBatch<Real>::Degree + 1];
+      theta[0] = Real(0);
+      int degree = 1; // trailing zero coefficients add exact zeros: left out
+      for (int k = 1; k <= SeriesBatch<Real>::Degree; ++k)
+      {
+        theta[k] = b.Depth[k][i];
+        degree = theta[k] != Real(0) ? k : degree;
+      }
+      const Real g[3] = { b.Slope[0][i], b.Slope[1][i], b.Slope[2][i] };
+      const Real limit = b.Scale[i] * (b.Front[i] * (Real(1) - E) + l * b.InverseLength[i]);
+      const Real variation = l * (std::abs(g[0]) + l * (std::abs(g[1]) + l * std::abs(g[2])));
+      Real J = Real(0);
+      bool settled = variation <= limit; // SeriesIntegral's rest bound, v = 0
+      if (!settled)
+      {
+        const Real A = detail::Magnitude(theta, degree, l);
+        settled =
+          A <= Real(1) && detail::SubintervalSeries(theta, degree, g, l, A, Real(1), limit, J);
+      }
+      b.J[i] = J;
+      b.Settled[i] = settled ? Real(1) : Real(0);
+    }
+  }
+};
+
+// `kernels` integrates the pieces' batches (PieceBatch): ScalarPieceKernels,
+// or a vectorised one of the engine.
+template <typename Real, typename VolumeT, typename Kernels = ScalarPieceKernels<Real>>
 RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
   const PiecewiseTransferFunction<Real>& tf, Real tolerance, bool earlyTermination = true,
-  std::vector<StepRecord<Real>>* steps = nullptr)
+  std::vector<StepRecord<Real>>* steps = nullptr, const Kernels& kernels = Kernels())
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
@@ -416,67 +581,143 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   RayStatistics<Real>& stats = result.Statistics;
   const Real budget = Real(0.6) * tolerance;
   const Real terminationBound = Real(0.15) * tolerance / std::max(Real(1), tf.GetMaximumColor());
+  const Real inverseL = Real(1) / L;
   glm::vec<3, Real> color(Real(0));
   Real T = Real(1);
   bool stopped = false;
 
-  auto integratePiece = [&](const RayPiece<Real>& piece) -> bool
+  constexpr int Capacity = PieceBatch<Real>::Capacity;
+  PieceBatch<Real> batch;
+  SeriesBatch<Real> series;
+  RayPiece<Real> pieces[Capacity];
+  int seriesPiece[Capacity]; // the batch's lane of each series lane
+  Real front[Capacity];      // the transmittance in front of each piece
+
+  // Integrates the batch's pieces front to back; false once the ray stops.
+  auto flush = [&]() -> bool
   {
-    const auto& p = tf[piece.TF];
-    const Cubic<Real>& q = piece.Q;
-    const Real l = piece.Length;
-    const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
-    ++stats.Pieces;
-    ++stats.Samples; // the piece's end
-    stats.Accept(l);
-    const Real thetaL = depth(l);
-    const Real EL = std::exp(-thetaL);
-    const Real Ta = T, Tb = T * EL;
-    color += Ta * (p.Colour + p.ColourSlope * q.K[0]) - Tb * (p.Colour + p.ColourSlope * q(l));
-    const Real cs =
-      std::max({ std::abs(p.ColourSlope.x), std::abs(p.ColourSlope.y), std::abs(p.ColourSlope.z) });
-    if (cs > Real(0) && Ta > Real(0))
+    batch.Pad();
+    kernels.Depths(batch);
+    series.Count = 0;
+    for (int i = 0; i < batch.Count && !stopped; ++i)
     {
-      // The error J may have on [v, v + h], spending e^{-theta} from Ev to Eh.
-      const Real scale = budget / (Real(2) * cs * Ta);
-      auto allowed = [&](Real Ev, Real Eh, Real h) { return scale * (Ta * (Ev - Eh) + h / L); };
-      const Real dq = q(l) - q.K[0];
-      Real J;
-      if (piece.Monotone && std::abs(dq) * (Real(1) - EL) / Real(2) <= allowed(Real(1), EL, l))
+      const RayPiece<Real>& piece = pieces[i];
+      const auto& p = tf[piece.TF];
+      const Cubic<Real>& q = piece.Q;
+      const Real l = piece.Length;
+      ++stats.Pieces;
+      ++stats.Samples; // the piece's end
+      stats.Accept(l);
+      const Real EL = batch.Transmittance[i];
+      const Real Ta = T, Tb = T * EL;
+      front[i] = Ta;
+      color += Ta * (p.Colour + p.ColourSlope * q.K[0]) - Tb * (p.Colour + p.ColourSlope * q(l));
+      const Real cs = std::max(
+        { std::abs(p.ColourSlope.x), std::abs(p.ColourSlope.y), std::abs(p.ColourSlope.z) });
+      if (cs > Real(0) && Ta > Real(0))
       {
-        J = dq * (Real(1) + EL) / Real(2);
+        // The error J may have on [v, v + h], spending e^{-theta} from Ev to
+        // Eh, is scale (Ta (Ev - Eh) + h / L).
+        const Real scale = budget / (Real(2) * cs * Ta);
+        const Real dq = q(l) - q.K[0];
+        if (piece.Monotone &&
+          std::abs(dq) * (Real(1) - EL) / Real(2) <= scale * (Ta * (Real(1) - EL) + l * inverseL))
+        {
+          color += p.ColourSlope * (Ta * (dq * (Real(1) + EL) / Real(2)));
+        }
+        else
+        {
+          const int j = series.Count++;
+          seriesPiece[j] = i;
+          for (int k = 1; k <= PieceBatch<Real>::Degree; ++k)
+          {
+            series.Depth[k][j] = batch.Depth[k][i];
+          }
+          series.Depth[0][j] = Real(0);
+          series.Slope[0][j] = q.K[1];
+          series.Slope[1][j] = Real(2) * q.K[2];
+          series.Slope[2][j] = Real(3) * q.K[3];
+          series.Length[j] = l;
+          series.Transmittance[j] = EL;
+          series.Scale[j] = scale;
+          series.Front[j] = Ta;
+          series.InverseLength[j] = inverseL;
+        }
+      }
+      T = Tb;
+      if (stats.Steps)
+      {
+        stats.Steps->push_back({ piece.Begin, l, Real(1) - T });
+      }
+      if (earlyTermination && T <= terminationBound)
+      {
+        stats.Terminated = true;
+        stopped = true;
+      }
+    }
+    if (series.Count > 0)
+    {
+      series.Pad();
+      kernels.Series(series);
+    }
+    for (int j = 0; j < series.Count; ++j)
+    {
+      const int i = seriesPiece[j];
+      const RayPiece<Real>& piece = pieces[i];
+      const auto& p = tf[piece.TF];
+      const Real Ta = front[i], scale = series.Scale[j];
+      Real J = series.J[j];
+      if (series.Settled[j] != Real(0))
+      {
+        stats.Accept(piece.Length);
       }
       else
       {
-        J = detail::SeriesIntegral(depth, q, l, EL, allowed, stats);
+        // Not settled on the whole piece: sub-intervals.
+        auto allowed = [&](Real Ev, Real Eh, Real h)
+        { return scale * (Ta * (Ev - Eh) + h * inverseL); };
+        const detail::PieceDepth<Real> depth(
+          piece.Q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
+        J = detail::SeriesIntegral(
+          depth, piece.Q, piece.Length, series.Transmittance[j], allowed, stats);
         if (std::isnan(J))
         {
           result.Error = "a piece needs more than 65536 sub-intervals (data values too large "
                          "for double precision against the transfer function's knots)";
           stopped = true;
-          return false;
+          break;
         }
       }
       color += p.ColourSlope * (Ta * J);
     }
-    T = Tb;
-    if (stats.Steps)
+    batch.Count = 0;
+    return !stopped;
+  };
+  auto gather = [&](const RayPiece<Real>& piece) -> bool
+  {
+    const int i = batch.Count++;
+    pieces[i] = piece;
+    const auto& p = tf[piece.TF];
+    for (int k = 0; k < 4; ++k)
     {
-      stats.Steps->push_back({ piece.Begin, l, Real(1) - T });
+      batch.Q[k][i] = piece.Q.K[k];
     }
-    if (earlyTermination && T <= terminationBound)
-    {
-      stats.Terminated = true;
-      stopped = true;
-      return false;
-    }
-    return true;
+    batch.Length[i] = piece.Length;
+    batch.Tau[0][i] = p.Tau;
+    batch.Tau[1][i] = p.TauSlope;
+    batch.Tau[2][i] = p.TauCurvature;
+    batch.Tau[3][i] = p.TauCubic;
+    return batch.Count < Capacity || flush();
   };
 
   for (std::size_t j = 0; j < count && !stopped; ++j)
   {
-    PieceWalk(volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells,
-      integratePiece);
+    PieceWalk(
+      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, gather);
+  }
+  if (!stopped && batch.Count > 0)
+  {
+    flush();
   }
   if (!result.Error.empty())
   {
