@@ -30,6 +30,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/EmptySpace.h"
+#include "avos/engine/PieceKernels.h"
 #include "avos/engine/PixelRays.h"
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/Accumulation.h"
@@ -421,8 +422,9 @@ void IntegrateRay(const an::TrilinearVolume<double, Storage>& volume, const Fram
             { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       break;
     case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
+      // Its pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-        *method.Pieces, method.Adaptive.Tolerance, true, steps);
+        *method.Pieces, method.Adaptive.Tolerance, true, steps, avos::engine::PieceKernels());
       break;
     default:
       result = WithField(volume, method, origin, direction,

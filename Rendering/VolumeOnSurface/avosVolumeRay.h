@@ -21,6 +21,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/EmptySpace.h"
+#include "avos/engine/PieceKernels.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
@@ -315,8 +316,11 @@ private:
     }
     if (this->Setup.Method == RayIntegration::Piecewise)
     {
+      // Its pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
+      std::vector<avos::numerics::StepRecord<double>>* noSteps = nullptr;
       result = avos::numerics::IntegratePiecewise(this->Volume, origin, back, segments.data(),
-        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance);
+        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, noSteps,
+        avos::engine::PieceKernels());
       return;
     }
     if (this->Setup.Engine)
