@@ -3,11 +3,14 @@
 // 256^3 smooth volume: the Riemann kernel (64-knot transfer function, h 0.5,
 // no early termination; time per ray and per sample) and the packet walk of
 // the empty-space map (a transfer function transparent below 150, bundles of
-// 16 neighbouring rays as a tile's row casts them; time per ray).
+// 16 neighbouring rays as a tile's row casts them; time per ray), and the
+// piecewise method with its pieces' kernels scalar or vectorised (the same
+// rays, VTK's alpha model at eps 1e-3 and 1e-2; time per ray and per piece).
 //   build/bin/avos-bench-engine
 #include "AdversarialCases.h"
 
 #include "avos/engine/EmptySpace.h"
+#include "avos/engine/PieceKernels.h"
 #include "avos/engine/Riemann.h"
 
 #include "hwy/targets.h"
@@ -17,6 +20,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace an = avos::numerics;
@@ -190,13 +194,14 @@ void WalkPacket(benchmark::State& state)
   ReportWalk(state, rays, count);
 }
 
-void Report(benchmark::State& state, long rays, long samples)
+// Time per ray and per `unit` ("sample", or "piece" for the piecewise method).
+void Report(benchmark::State& state, long rays, long count, const std::string& unit = "sample")
 {
   state.counters["time_per_ray"] =
     benchmark::Counter(double(rays), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  state.counters["time_per_sample"] =
-    benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  state.counters["samples_per_ray"] = double(samples) / double(std::max(rays, 1L));
+  state.counters["time_per_" + unit] =
+    benchmark::Counter(double(count), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters[unit + "s_per_ray"] = double(count) / double(std::max(rays, 1L));
 }
 
 void Scalar(benchmark::State& state)
@@ -248,6 +253,60 @@ void Vectorised(benchmark::State& state)
   Report(state, rays, samples);
 }
 
+// The fixture's alpha-model transfer function prepared for the piecewise
+// method at eps 1e-3 (index 0) or 1e-2 (1).
+const an::PiecewiseTransferFunction<double>& GetPieces(int coarse)
+{
+  static const std::unique_ptr<an::PiecewiseTransferFunction<double>> pieces[2] = {
+    std::unique_ptr<an::PiecewiseTransferFunction<double>>(
+      new an::PiecewiseTransferFunction<double>()),
+    std::unique_ptr<an::PiecewiseTransferFunction<double>>(
+      new an::PiecewiseTransferFunction<double>())
+  };
+  if (pieces[coarse]->GetNumberOfPieces() == 0)
+  {
+    pieces[coarse]->Build(Get(true).TF, an::PiecewiseRelativeError(coarse ? 1e-2 : 1e-3));
+  }
+  return *pieces[coarse];
+}
+
+template <typename Kernels>
+void Pieces(benchmark::State& state, const Kernels& kernels, int coarse)
+{
+  const Fixture& f = Get(true);
+  const an::TrilinearVolume<double, double> volume(f.Data.data(), f.Dimensions);
+  const an::PiecewiseTransferFunction<double>& tf = GetPieces(coarse);
+  std::vector<an::StepRecord<double>>* none = nullptr;
+  long rays = 0, pieces = 0;
+  for (auto _ : state)
+  {
+    for (const auto& ray : f.RaySet)
+    {
+      const an::Interval<double> whole{ 0.0, ray.Length };
+      const auto r = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf,
+        coarse ? 1e-2 : 1e-3, true, none, kernels);
+      benchmark::DoNotOptimize(r.RGBA);
+      pieces += r.Statistics.Pieces;
+      ++rays;
+    }
+  }
+  Report(state, rays, pieces, "piece");
+}
+
+void PiecesScalar(benchmark::State& state)
+{
+  Pieces(state, an::ScalarPieceKernels<double>(), static_cast<int>(state.range(0)));
+}
+BENCHMARK(PiecesScalar)->ArgName("coarse")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void PiecesVectorised(benchmark::State& state)
+{
+  hwy::SetSupportedTargetsForTest(state.range(0));
+  state.SetLabel(ae::PieceKernelsTarget());
+  Pieces(state, ae::PieceKernels(), static_cast<int>(state.range(1)));
+  hwy::SetSupportedTargetsForTest(0);
+}
+
 void RegisterTargets()
 {
   for (int64_t target : hwy::SupportedAndGeneratedTargets())
@@ -259,6 +318,15 @@ void RegisterTargets()
                                      .c_str(),
         Vectorised)
         ->Args({ target, alpha })
+        ->Unit(benchmark::kMillisecond);
+    }
+    for (int coarse : { 0, 1 })
+    {
+      benchmark::RegisterBenchmark((std::string("PiecesVectorised/") + hwy::TargetName(target) +
+                                     "/coarse:" + std::to_string(coarse))
+                                     .c_str(),
+        PiecesVectorised)
+        ->Args({ target, coarse })
         ->Unit(benchmark::kMillisecond);
     }
     benchmark::RegisterBenchmark(
