@@ -67,7 +67,8 @@
 // (8), integrated by a kernel a batch at a time (ScalarPieceKernels here; the
 // engine's vectorised one takes a piece per SIMD lane), in order, so the
 // result is the same as piece by piece; only the walk may run up to 7 pieces
-// past the point where early termination stops the ray (never integrated).
+// past the point where early termination stops the ray (never integrated;
+// batches shrink as the ray nears it).
 #ifndef avos_numerics_PiecewiseIntegrator_h
 #define avos_numerics_PiecewiseIntegrator_h
 
@@ -590,6 +591,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   PieceBatch<Real> batch;
   SeriesBatch<Real> series;
   RayPiece<Real> pieces[Capacity];
+  int limit = Capacity;      // of the batch being gathered
   int seriesPiece[Capacity]; // the batch's lane of each series lane
   Real front[Capacity];      // the transmittance in front of each piece
 
@@ -691,6 +693,14 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       color += p.ColourSlope * (Ta * J);
     }
     batch.Count = 0;
+    // The next batch holds no more pieces than the ray may need to reach
+    // early termination at the mean depth of its pieces so far, so that the
+    // walk seldom runs past it (the batch's size changes nothing else).
+    if (earlyTermination && T < Real(1) && T > terminationBound)
+    {
+      const Real expected = std::log(T / terminationBound) * Real(stats.Pieces) / -std::log(T);
+      limit = expected < Real(Capacity) ? static_cast<int>(expected) + 1 : Capacity;
+    }
     return !stopped;
   };
   auto gather = [&](const RayPiece<Real>& piece) -> bool
@@ -707,7 +717,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     batch.Tau[1][i] = p.TauSlope;
     batch.Tau[2][i] = p.TauCurvature;
     batch.Tau[3][i] = p.TauCubic;
-    return batch.Count < Capacity || flush();
+    return batch.Count < limit || flush();
   };
 
   for (std::size_t j = 0; j < count && !stopped; ++j)
