@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace an = avos::numerics;
@@ -147,8 +148,9 @@ TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
       {
         const adversarial::Ray ray = adversarial::MakeRay(c, i);
         const an::Interval<double> whole{ 0.0, ray.Length };
-        const auto r = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps,
-          true, static_cast<std::vector<an::StepRecord<double>>*>(nullptr), kernels);
+        std::vector<an::StepRecord<double>>* none = nullptr;
+        const auto r = an::IntegratePiecewise(
+          volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, none, kernels);
         ASSERT_EQ(r.Error, "");
       }
     }
