@@ -135,6 +135,8 @@ class PieceKernelsTargets : public avostest::TargetTest
 
 TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
 {
+  // The kernels dispatch to the target forced.
+  EXPECT_STREQ(ae::PieceKernelsTarget(), hwy::TargetName(this->GetParam()));
   Differences d;
   const ComparingKernels kernels{ &d };
   for (const adversarial::Case& c : Cases())
