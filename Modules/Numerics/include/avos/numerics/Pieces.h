@@ -70,6 +70,7 @@ public:
     Real TauCubic;
     Color Colour;
     Color ColourSlope;
+    Real ColourSlopeMaximum; // max |ColourSlope| over the channels
   };
 
   // The most knots the alpha model's conversion may add: beyond, the
@@ -107,7 +108,7 @@ public:
     }
     // Below the first knot: the first values, constant.
     this->Pieces.push_back({ pieces.front().Start, tf.ToExtinction(tf.GetOpacityBelow()), Real(0),
-      Real(0), Real(0), tf.GetColorBelow(), Color(Real(0)) });
+      Real(0), Real(0), tf.GetColorBelow(), Color(Real(0)), Real(0) });
     for (const auto& p : pieces)
     {
       const Real a0 = p.Opacity;
@@ -270,7 +271,8 @@ private:
   void Add(std::vector<Real>& knots, Real s, const std::array<Real, 4>& tau, const Color& colour,
     const Color& colourSlope)
   {
-    const Piece piece{ s, tau[0], tau[1], tau[2], tau[3], colour, colourSlope };
+    const Piece piece{ s, tau[0], tau[1], tau[2], tau[3], colour, colourSlope,
+      std::max({ std::abs(colourSlope.x), std::abs(colourSlope.y), std::abs(colourSlope.z) }) };
     if (!knots.empty() && s <= knots.back())
     {
       // A cut rounded onto its neighbour: the later piece starts there and

@@ -590,10 +590,14 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   constexpr int Capacity = PieceBatch<Real>::Capacity;
   PieceBatch<Real> batch;
   SeriesBatch<Real> series;
-  RayPiece<Real> pieces[Capacity];
+  // Per piece of the batch, beside its lanes: where it starts on the ray,
+  // its transfer-function piece, whether s is monotone on it, and the
+  // transmittance in front of it.
+  Real begin[Capacity], front[Capacity];
+  std::size_t piece[Capacity];
+  bool monotone[Capacity];
   int limit = Capacity;      // of the batch being gathered
   int seriesPiece[Capacity]; // the batch's lane of each series lane
-  Real front[Capacity];      // the transmittance in front of each piece
 
   // Integrates the batch's pieces front to back; false once the ray stops.
   auto flush = [&]() -> bool
@@ -603,27 +607,26 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     series.Count = 0;
     for (int i = 0; i < batch.Count && !stopped; ++i)
     {
-      const RayPiece<Real>& piece = pieces[i];
-      const auto& p = tf[piece.TF];
-      const Cubic<Real>& q = piece.Q;
-      const Real l = piece.Length;
+      const auto& p = tf[piece[i]];
+      const Real l = batch.Length[i];
+      const Real qa = batch.Q[0][i];
+      const Real ql = qa + l * (batch.Q[1][i] + l * (batch.Q[2][i] + l * batch.Q[3][i]));
       ++stats.Pieces;
       ++stats.Samples; // the piece's end
       stats.Accept(l);
       const Real EL = batch.Transmittance[i];
       const Real Ta = T, Tb = T * EL;
       front[i] = Ta;
-      color += Ta * (p.Colour + p.ColourSlope * q.K[0]) - Tb * (p.Colour + p.ColourSlope * q(l));
-      const Real cs = std::max(
-        { std::abs(p.ColourSlope.x), std::abs(p.ColourSlope.y), std::abs(p.ColourSlope.z) });
+      color += Ta * (p.Colour + p.ColourSlope * qa) - Tb * (p.Colour + p.ColourSlope * ql);
+      const Real cs = p.ColourSlopeMaximum;
       if (cs > Real(0) && Ta > Real(0))
       {
         // The error J may have on [v, v + h], spending e^{-theta} from Ev to
-        // Eh, is scale (Ta (Ev - Eh) + h / L).
-        const Real scale = budget / (Real(2) * cs * Ta);
-        const Real dq = q(l) - q.K[0];
-        if (piece.Monotone &&
-          std::abs(dq) * (Real(1) - EL) / Real(2) <= scale * (Ta * (Real(1) - EL) + l * inverseL))
+        // Eh, is budget (Ta (Ev - Eh) + h / L) / (2 cs Ta); the midpoint of
+        // J's bounds errs by |dq| (1 - EL) / 2 on the whole piece.
+        const Real dq = ql - qa;
+        if (monotone[i] &&
+          cs * Ta * std::abs(dq) * (Real(1) - EL) <= budget * (Ta * (Real(1) - EL) + l * inverseL))
         {
           color += p.ColourSlope * (Ta * (dq * (Real(1) + EL) / Real(2)));
         }
@@ -636,12 +639,12 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
             series.Depth[k][j] = batch.Depth[k][i];
           }
           series.Depth[0][j] = Real(0);
-          series.Slope[0][j] = q.K[1];
-          series.Slope[1][j] = Real(2) * q.K[2];
-          series.Slope[2][j] = Real(3) * q.K[3];
+          series.Slope[0][j] = batch.Q[1][i];
+          series.Slope[1][j] = Real(2) * batch.Q[2][i];
+          series.Slope[2][j] = Real(3) * batch.Q[3][i];
           series.Length[j] = l;
           series.Transmittance[j] = EL;
-          series.Scale[j] = scale;
+          series.Scale[j] = budget / (Real(2) * cs * Ta);
           series.Front[j] = Ta;
           series.InverseLength[j] = inverseL;
         }
@@ -649,7 +652,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       T = Tb;
       if (stats.Steps)
       {
-        stats.Steps->push_back({ piece.Begin, l, Real(1) - T });
+        stats.Steps->push_back({ begin[i], l, Real(1) - T });
       }
       if (earlyTermination && T <= terminationBound)
       {
@@ -665,23 +668,21 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     for (int j = 0; j < series.Count; ++j)
     {
       const int i = seriesPiece[j];
-      const RayPiece<Real>& piece = pieces[i];
-      const auto& p = tf[piece.TF];
-      const Real Ta = front[i], scale = series.Scale[j];
+      const auto& p = tf[piece[i]];
+      const Real Ta = front[i], scale = series.Scale[j], l = batch.Length[i];
       Real J = series.J[j];
       if (series.Settled[j] != Real(0))
       {
-        stats.Accept(piece.Length);
+        stats.Accept(l);
       }
       else
       {
         // Not settled on the whole piece: sub-intervals.
         auto allowed = [&](Real Ev, Real Eh, Real h)
         { return scale * (Ta * (Ev - Eh) + h * inverseL); };
-        const detail::PieceDepth<Real> depth(
-          piece.Q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
-        J = detail::SeriesIntegral(
-          depth, piece.Q, piece.Length, series.Transmittance[j], allowed, stats);
+        const Cubic<Real> q{ { batch.Q[0][i], batch.Q[1][i], batch.Q[2][i], batch.Q[3][i] } };
+        const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
+        J = detail::SeriesIntegral(depth, q, l, series.Transmittance[j], allowed, stats);
         if (std::isnan(J))
         {
           result.Error = "a piece needs more than 65536 sub-intervals (data values too large "
@@ -703,16 +704,18 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     }
     return !stopped;
   };
-  auto gather = [&](const RayPiece<Real>& piece) -> bool
+  auto gather = [&](const RayPiece<Real>& rp) -> bool
   {
     const int i = batch.Count++;
-    pieces[i] = piece;
-    const auto& p = tf[piece.TF];
+    begin[i] = rp.Begin;
+    piece[i] = rp.TF;
+    monotone[i] = rp.Monotone;
+    const auto& p = tf[rp.TF];
     for (int k = 0; k < 4; ++k)
     {
-      batch.Q[k][i] = piece.Q.K[k];
+      batch.Q[k][i] = rp.Q.K[k];
     }
-    batch.Length[i] = piece.Length;
+    batch.Length[i] = rp.Length;
     batch.Tau[0][i] = p.Tau;
     batch.Tau[1][i] = p.TauSlope;
     batch.Tau[2][i] = p.TauCurvature;
