@@ -32,7 +32,8 @@ using SeriesBatch = an::SeriesBatch<double>;
 // magnitude its rounding is relative to.
 struct Differences
 {
-  long Pieces = 0, SeriesPieces = 0, Settled = 0, SettledMismatches = 0;
+  long Pieces = 0, Tested = 0, MonotoneMismatches = 0;
+  long SeriesPieces = 0, Settled = 0, SettledMismatches = 0;
   double Depth = 0.0, Transmittance = 0.0, J = 0.0;
 };
 
@@ -46,6 +47,8 @@ struct ComparingKernels
   void Depths(Batch& b) const
   {
     Batch vectorised = b, magnitude = b;
+    double known[Batch::Capacity]; // whether the walk knew s monotone
+    std::copy(b.Monotone, b.Monotone + Batch::Capacity, known);
     ae::PieceKernels().Depths(vectorised);
     an::ScalarPieceKernels<double>().Depths(b);
     // Depth's coefficients from |q| and |tau|: what each one's rounding is
@@ -63,6 +66,8 @@ struct ComparingKernels
     for (int i = 0; i < b.Count; ++i)
     {
       ++r.Pieces;
+      r.Tested += known[i] == 0.0 ? 1 : 0;
+      r.MonotoneMismatches += vectorised.Monotone[i] != b.Monotone[i] ? 1 : 0;
       double thetaMagnitude = 0.0;
       for (int k = Batch::Degree; k >= 1; --k)
       {
@@ -159,14 +164,17 @@ TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
   }
   // Measured: depth 6.4e-16, transmittance 2.6e-16, J 1.3e-16 (AVX-512).
   EXPECT_GT(d.Pieces, 10000);
+  EXPECT_GT(d.Tested, 1000);
+  EXPECT_EQ(d.MonotoneMismatches, 0);
   EXPECT_GT(d.Settled, 1000);
   EXPECT_LE(d.Depth, 1e-13);
   EXPECT_LE(d.Transmittance, 1e-13);
   EXPECT_LE(d.J, 1e-13);
   EXPECT_EQ(d.SettledMismatches, 0);
-  std::printf("%s: %ld pieces, %ld series (%ld settled on the whole piece); largest "
-              "differences: depth %.2g, transmittance %.2g, J %.2g\n",
-    ae::PieceKernelsTarget(), d.Pieces, d.SeriesPieces, d.Settled, d.Depth, d.Transmittance, d.J);
+  std::printf("%s: %ld pieces (%ld tested for monotony), %ld series (%ld settled on the whole "
+              "piece); largest differences: depth %.2g, transmittance %.2g, J %.2g\n",
+    ae::PieceKernelsTarget(), d.Pieces, d.Tested, d.SeriesPieces, d.Settled, d.Depth,
+    d.Transmittance, d.J);
 }
 
 // Lanes past the batch's count, pieces of length 0, extinction whose
@@ -189,6 +197,7 @@ TEST_P(PieceKernelsTargets, EdgeLanes)
       b.Tau[k][i] = tau[i][k];
     }
     b.Length[i] = length[i];
+    b.Monotone[i] = 0.0; // not known: tested
   }
   b.Pad();
   Batch vectorised = b;

@@ -80,6 +80,22 @@ void DepthsImpl(Batch& b)
     // max(theta, 0) keeping a NaN, as PieceDepth.
     theta = hn::IfThenElse(hn::Lt(theta, hn::Zero(d)), hn::Zero(d), theta);
     hn::StoreU(ExpKeepingNaN(d, hn::Neg(theta)), d, b.Transmittance + i);
+    // numerics::detail::Monotone: s' at both ends and at the vertex of the
+    // quadratic s' where it lies inside (none where K[3] = 0: the vertex is
+    // then infinite or NaN, never inside).
+    const V three = hn::Set(d, 3.0);
+    auto derivative = [&](V u)
+    { return hn::MulAdd(u, hn::MulAdd(u, hn::Mul(three, k[3]), hn::Mul(two, k[2])), k[1]); };
+    const V d1 = derivative(l);
+    V lo = hn::Min(k[1], d1), hi = hn::Max(k[1], d1);
+    const V vertex = hn::Div(hn::Neg(k[2]), hn::Mul(three, k[3]));
+    const auto inside = hn::And(hn::Gt(vertex, hn::Zero(d)), hn::Lt(vertex, l));
+    const V dv = derivative(hn::IfThenElseZero(inside, vertex));
+    lo = hn::IfThenElse(inside, hn::Min(lo, dv), lo);
+    hi = hn::IfThenElse(inside, hn::Max(hi, dv), hi);
+    const auto monotone = hn::Or(hn::Ne(hn::LoadU(d, b.Monotone + i), hn::Zero(d)),
+      hn::Or(hn::Ge(lo, hn::Zero(d)), hn::Le(hi, hn::Zero(d))));
+    hn::StoreU(hn::IfThenElseZero(monotone, hn::Set(d, 1.0)), d, b.Monotone + i);
   }
 }
 

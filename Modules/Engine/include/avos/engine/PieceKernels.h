@@ -7,7 +7,8 @@
 // - Depths: theta's coefficients (numerics::detail::PieceDepth, at degree 10
 //   in every lane; the coefficients a lane does not have come out 0), theta(l)
 //   by Horner, e^{-theta(l)} by Highway's Exp (1 ulp; 0 below -1000, where
-//   e^x is below the smallest double anyway).
+//   e^x is below the smallest double anyway), and whether s is monotone on
+//   the pieces the walk did not know it of.
 // - Series: SeriesIntegral's first sub-interval on each piece, the terms
 //   added in every lane until all lanes settle (a settled lane's sum is kept
 //   as it was when it settled), at most MaximumTerms + 1 terms.

@@ -459,7 +459,10 @@ struct RayPiece
   Real Length;
   Cubic<Real> Q;
   std::size_t TF;
-  bool Monotone; // s is monotone on the piece
+  // True: s is monotone on the piece (a stretch between the cell's extrema).
+  // False: not tested (a cell without knot crossings, whole: whoever needs
+  // to know tests it, as IntegratePiecewise does a batch of pieces at once).
+  bool Monotone;
 };
 
 namespace detail
@@ -710,8 +713,8 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     if (!crossings)
     {
       // One piece for the cell; whether s is monotone on it only matters
-      // to the integrator's cheapest bound, so it is tested, not split.
-      return emit(Real(0), length, first, detail::Monotone(s, length));
+      // to the integrator's cheapest bound, which tests it (not split).
+      return emit(Real(0), length, first, false);
     }
     // Monotone stretches: split at the extrema inside the cell.
     Real bounds[4];

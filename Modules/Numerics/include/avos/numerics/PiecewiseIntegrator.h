@@ -409,7 +409,8 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
 // scales J's share of the tolerance and decides early termination), so
 // IntegratePiecewise runs two stages on a batch, Depths then Series, and
 // composites between them, in order:
-// - Depths, per piece: theta's coefficients (PieceDepth) and e^{-theta(l)};
+// - Depths, per piece: theta's coefficients (PieceDepth), e^{-theta(l)}, and
+//   whether s is monotone where the walk did not know it (detail::Monotone);
 // - Series, per piece whose J the midpoint bound does not settle: J on the
 //   whole piece as the first sub-interval of SeriesIntegral does it (the rest
 //   bound, then the series if A <= 1); a piece that this does not settle
@@ -436,6 +437,9 @@ struct PieceBatch
   // e^{-theta(l)}.
   alignas(64) Real Depth[Degree + 1][Capacity];
   alignas(64) Real Transmittance[Capacity];
+  // In: 1 where s is known to be monotone on the piece, else 0; out: 1 where
+  // it is (RayPiece::Monotone).
+  alignas(64) Real Monotone[Capacity];
 
   // Lanes Count .. the next multiple of Block zeroed: a transparent piece of
   // length 0, so that kernels may take whole vectors.
@@ -448,6 +452,7 @@ struct PieceBatch
         this->Q[k][i] = this->Tau[k][i] = Real(0);
       }
       this->Length[i] = Real(0);
+      this->Monotone[i] = Real(1);
     }
   }
 };
@@ -505,6 +510,10 @@ struct ScalarPieceKernels
         b.Depth[k][i] = k <= depth.Degree ? depth.D[k] : Real(0);
       }
       b.Transmittance[i] = std::exp(-depth(b.Length[i]));
+      if (b.Monotone[i] == Real(0) && detail::Monotone(q, b.Length[i]))
+      {
+        b.Monotone[i] = Real(1);
+      }
     }
   }
 
@@ -591,11 +600,9 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   PieceBatch<Real> batch;
   SeriesBatch<Real> series;
   // Per piece of the batch, beside its lanes: where it starts on the ray,
-  // its transfer-function piece, whether s is monotone on it, and the
-  // transmittance in front of it.
+  // its transfer-function piece and the transmittance in front of it.
   Real begin[Capacity], front[Capacity];
   std::size_t piece[Capacity];
-  bool monotone[Capacity];
   int limit = Capacity;      // of the batch being gathered
   int seriesPiece[Capacity]; // the batch's lane of each series lane
 
@@ -625,7 +632,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
         // Eh, is budget (Ta (Ev - Eh) + h / L) / (2 cs Ta); the midpoint of
         // J's bounds errs by |dq| (1 - EL) / 2 on the whole piece.
         const Real dq = ql - qa;
-        if (monotone[i] &&
+        if (batch.Monotone[i] != Real(0) &&
           cs * Ta * std::abs(dq) * (Real(1) - EL) <= budget * (Ta * (Real(1) - EL) + l * inverseL))
         {
           color += p.ColourSlope * (Ta * (dq * (Real(1) + EL) / Real(2)));
@@ -709,7 +716,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     const int i = batch.Count++;
     begin[i] = rp.Begin;
     piece[i] = rp.TF;
-    monotone[i] = rp.Monotone;
+    batch.Monotone[i] = rp.Monotone ? Real(1) : Real(0);
     const auto& p = tf[rp.TF];
     for (int k = 0; k < 4; ++k)
     {
