@@ -218,7 +218,7 @@ TEST_P(PieceKernelsTargets, EdgeLanes)
   for (int j = 0; j < 2; ++j)
   {
     const int i = from[j];
-    for (int k = 0; k <= SeriesBatch::Degree; ++k)
+    for (int k = 1; k <= SeriesBatch::Degree; ++k)
     {
       s.Depth[k][j] = b.Depth[k][i];
     }
@@ -229,8 +229,8 @@ TEST_P(PieceKernelsTargets, EdgeLanes)
     s.Transmittance[j] = b.Transmittance[i];
     s.Scale[j] = 1e-6;
     s.Front[j] = 1.0;
-    s.InverseLength[j] = 0.01;
   }
+  s.InverseLength = 0.01;
   s.Pad();
   SeriesBatch v = s;
   ae::PieceKernels().Series(v);

@@ -76,7 +76,6 @@ void DepthsImpl(Batch& b)
       hn::StoreU(D[j], d, b.Depth[j] + i);
       theta = hn::MulAdd(theta, l, D[j - 1]);
     }
-    hn::StoreU(D[0], d, b.Depth[0] + i);
     // max(theta, 0) keeping a NaN, as PieceDepth.
     theta = hn::IfThenElse(hn::Lt(theta, hn::Zero(d)), hn::Zero(d), theta);
     hn::StoreU(ExpKeepingNaN(d, hn::Neg(theta)), d, b.Transmittance + i);
@@ -106,18 +105,18 @@ void SeriesImpl(Series& b)
   const int N = static_cast<int>(hn::Lanes(d));
   constexpr int Terms = numerics::detail::MaximumTerms;
   const double* R = Inverse.R;
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inverseL = hn::Set(d, b.InverseLength);
   for (int i = 0; i < b.Count; i += N)
   {
     const V l = hn::LoadU(d, b.Length + i), E = hn::LoadU(d, b.Transmittance + i);
     const V g0 = hn::LoadU(d, b.Slope[0] + i), g1 = hn::LoadU(d, b.Slope[1] + i),
             g2 = hn::LoadU(d, b.Slope[2] + i);
     const V limit = hn::Mul(hn::LoadU(d, b.Scale + i),
-      hn::MulAdd(
-        hn::LoadU(d, b.Front + i), hn::Sub(one, E), hn::Mul(l, hn::LoadU(d, b.InverseLength + i))));
-    const V gmax = hn::MulAdd(l, hn::MulAdd(l, hn::Abs(g2), hn::Abs(g1)), hn::Abs(g0));
-    // SeriesIntegral's rest bound at v = 0: J within the share as 0.
-    const auto rest = hn::Le(hn::Mul(l, gmax), limit);
+      hn::MulAdd(hn::LoadU(d, b.Front + i), hn::Sub(one, E), hn::Mul(l, inverseL)));
+    // l max|q'|: the rest bound at v = 0 (J within the share as 0), and the
+    // tail's factor.
+    const V lgmax = hn::Mul(l, hn::MulAdd(l, hn::MulAdd(l, hn::Abs(g2), hn::Abs(g1)), hn::Abs(g0)));
+    const auto rest = hn::Le(lgmax, limit);
     V weight[Degree + 1], magnitudeWeight[Degree + 1];
     V A = zero;
     for (int j = Degree; j >= 1; --j)
@@ -144,7 +143,7 @@ void SeriesImpl(Series& b)
           hn::Mul(g0, hn::Set(d, R[k + 1]))));
       sum = hn::IfThenElse(open, hn::Add(sum, term), sum);
       const V tail = hn::Max(hn::Sub(whole, partial), zero);
-      const auto now = hn::And(open, hn::Le(hn::Mul(hn::Mul(l, gmax), tail), limit));
+      const auto now = hn::And(open, hn::Le(hn::Mul(lgmax, tail), limit));
       settled = hn::Or(settled, now);
       open = hn::AndNot(now, open);
       if (k == Terms)

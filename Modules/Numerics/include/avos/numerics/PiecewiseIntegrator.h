@@ -426,14 +426,13 @@ struct PieceBatch
 {
   // A multiple of the widest vector of Real of any target (8 doubles).
   static constexpr int Capacity = 8;
-  static constexpr int Block = 8;
   static constexpr int Degree = detail::PieceDepth<Real>::MaximumDegree;
   int Count = 0;
   // In: q's coefficients, the length, tau's coefficients a, b, c, e.
   alignas(64) Real Q[4][Capacity];
   alignas(64) Real Length[Capacity];
   alignas(64) Real Tau[4][Capacity];
-  // Out: theta's coefficients of v^1 .. v^Degree (Depth[0] unused: 0) and
+  // Out: theta's coefficients of v^1 .. v^Degree (Depth[0] unused) and
   // e^{-theta(l)}.
   alignas(64) Real Depth[Degree + 1][Capacity];
   alignas(64) Real Transmittance[Capacity];
@@ -441,11 +440,17 @@ struct PieceBatch
   // it is (RayPiece::Monotone).
   alignas(64) Real Monotone[Capacity];
 
-  // Lanes Count .. the next multiple of Block zeroed: a transparent piece of
-  // length 0, so that kernels may take whole vectors.
+  // The piece in lane i.
+  Cubic<Real> CubicAt(int i) const
+  {
+    return { { this->Q[0][i], this->Q[1][i], this->Q[2][i], this->Q[3][i] } };
+  }
+
+  // Lanes Count .. Capacity - 1 zeroed: transparent pieces of length 0, so
+  // that kernels may take whole vectors.
   void Pad()
   {
-    for (int i = this->Count; i < Capacity && i % Block != 0; ++i)
+    for (int i = this->Count; i < Capacity; ++i)
     {
       for (int k = 0; k < 4; ++k)
       {
@@ -463,16 +468,17 @@ struct SeriesBatch
   static constexpr int Capacity = PieceBatch<Real>::Capacity;
   static constexpr int Degree = PieceBatch<Real>::Degree;
   int Count = 0;
-  // In: theta's coefficients, q' (K[1], 2 K[2], 3 K[3]), the length l,
-  // e^{-theta(l)}, and the share of the tolerance J may take on [0, h],
-  // allowed(1, E, h) = Scale (Front (1 - E) + h InverseLength).
+  // In: theta's coefficients (Depth[0] unused), q' (K[1], 2 K[2], 3 K[3]),
+  // the length l, e^{-theta(l)}, and the share of the tolerance J may take
+  // on [0, h], allowed(1, E, h) = Scale (Front (1 - E) + h InverseLength),
+  // InverseLength 1 / the ray's visible length.
   alignas(64) Real Depth[Degree + 1][Capacity];
   alignas(64) Real Slope[3][Capacity];
   alignas(64) Real Length[Capacity];
   alignas(64) Real Transmittance[Capacity];
   alignas(64) Real Scale[Capacity];
   alignas(64) Real Front[Capacity];
-  alignas(64) Real InverseLength[Capacity];
+  Real InverseLength = Real(0);
   // Out: J, and 1 where it is settled (else 0, J undefined).
   alignas(64) Real J[Capacity];
   alignas(64) Real Settled[Capacity];
@@ -480,9 +486,9 @@ struct SeriesBatch
   // As PieceBatch::Pad: a piece of length 0 with no share, settled at once.
   void Pad()
   {
-    for (int i = this->Count; i < Capacity && i % PieceBatch<Real>::Block != 0; ++i)
+    for (int i = this->Count; i < Capacity; ++i)
     {
-      for (int k = 0; k <= Degree; ++k)
+      for (int k = 1; k <= Degree; ++k)
       {
         this->Depth[k][i] = Real(0);
       }
@@ -490,7 +496,7 @@ struct SeriesBatch
       {
         this->Slope[k][i] = Real(0);
       }
-      this->Length[i] = this->Scale[i] = this->Front[i] = this->InverseLength[i] = Real(0);
+      this->Length[i] = this->Scale[i] = this->Front[i] = Real(0);
       this->Transmittance[i] = Real(1);
     }
   }
@@ -503,7 +509,7 @@ struct ScalarPieceKernels
   {
     for (int i = 0; i < b.Count; ++i)
     {
-      const Cubic<Real> q{ { b.Q[0][i], b.Q[1][i], b.Q[2][i], b.Q[3][i] } };
+      const Cubic<Real> q = b.CubicAt(i);
       const detail::PieceDepth<Real> depth(q, b.Tau[0][i], b.Tau[1][i], b.Tau[2][i], b.Tau[3][i]);
       for (int k = 1; k <= PieceBatch<Real>::Degree; ++k)
       {
@@ -531,7 +537,7 @@ struct ScalarPieceKernels
         degree = theta[k] != Real(0) ? k : degree;
       }
       const Real g[3] = { b.Slope[0][i], b.Slope[1][i], b.Slope[2][i] };
-      const Real limit = b.Scale[i] * (b.Front[i] * (Real(1) - E) + l * b.InverseLength[i]);
+      const Real limit = b.Scale[i] * (b.Front[i] * (Real(1) - E) + l * b.InverseLength);
       const Real variation = l * (std::abs(g[0]) + l * (std::abs(g[1]) + l * std::abs(g[2])));
       Real J = Real(0);
       bool settled = variation <= limit; // SeriesIntegral's rest bound, v = 0
@@ -599,6 +605,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   constexpr int Capacity = PieceBatch<Real>::Capacity;
   PieceBatch<Real> batch;
   SeriesBatch<Real> series;
+  series.InverseLength = inverseL;
   // Per piece of the batch, beside its lanes: where it starts on the ray,
   // its transfer-function piece and the transmittance in front of it.
   Real begin[Capacity], front[Capacity];
@@ -616,8 +623,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
     {
       const auto& p = tf[piece[i]];
       const Real l = batch.Length[i];
-      const Real qa = batch.Q[0][i];
-      const Real ql = qa + l * (batch.Q[1][i] + l * (batch.Q[2][i] + l * batch.Q[3][i]));
+      const Real qa = batch.Q[0][i], ql = batch.CubicAt(i)(l);
       ++stats.Pieces;
       ++stats.Samples; // the piece's end
       stats.Accept(l);
@@ -645,7 +651,6 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
           {
             series.Depth[k][j] = batch.Depth[k][i];
           }
-          series.Depth[0][j] = Real(0);
           series.Slope[0][j] = batch.Q[1][i];
           series.Slope[1][j] = Real(2) * batch.Q[2][i];
           series.Slope[2][j] = Real(3) * batch.Q[3][i];
@@ -653,7 +658,6 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
           series.Transmittance[j] = EL;
           series.Scale[j] = budget / (Real(2) * cs * Ta);
           series.Front[j] = Ta;
-          series.InverseLength[j] = inverseL;
         }
       }
       T = Tb;
@@ -687,7 +691,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
         // Not settled on the whole piece: sub-intervals.
         auto allowed = [&](Real Ev, Real Eh, Real h)
         { return scale * (Ta * (Ev - Eh) + h * inverseL); };
-        const Cubic<Real> q{ { batch.Q[0][i], batch.Q[1][i], batch.Q[2][i], batch.Q[3][i] } };
+        const Cubic<Real> q = batch.CubicAt(i);
         const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
         J = detail::SeriesIntegral(depth, q, l, series.Transmittance[j], allowed, stats);
         if (std::isnan(J))
