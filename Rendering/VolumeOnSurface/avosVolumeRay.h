@@ -317,9 +317,8 @@ private:
     if (this->Setup.Method == RayIntegration::Piecewise)
     {
       // Its pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
-      std::vector<avos::numerics::StepRecord<double>>* noSteps = nullptr;
       result = avos::numerics::IntegratePiecewise(this->Volume, origin, back, segments.data(),
-        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, noSteps,
+        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, nullptr,
         avos::engine::PieceKernels());
       return;
     }

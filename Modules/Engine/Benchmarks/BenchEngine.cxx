@@ -276,7 +276,6 @@ void Pieces(benchmark::State& state, const Kernels& kernels, int coarse)
   const Fixture& f = Get(true);
   const an::TrilinearVolume<double, double> volume(f.Data.data(), f.Dimensions);
   const an::PiecewiseTransferFunction<double>& tf = GetPieces(coarse);
-  std::vector<an::StepRecord<double>>* none = nullptr;
   long rays = 0, pieces = 0;
   for (auto _ : state)
   {
@@ -284,7 +283,7 @@ void Pieces(benchmark::State& state, const Kernels& kernels, int coarse)
     {
       const an::Interval<double> whole{ 0.0, ray.Length };
       const auto r = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf,
-        coarse ? 1e-2 : 1e-3, true, none, kernels);
+        coarse ? 1e-2 : 1e-3, true, nullptr, kernels);
       benchmark::DoNotOptimize(r.RGBA);
       pieces += r.Statistics.Pieces;
       ++rays;

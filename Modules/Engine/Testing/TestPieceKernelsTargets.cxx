@@ -155,9 +155,8 @@ TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
       {
         const adversarial::Ray ray = adversarial::MakeRay(c, i);
         const an::Interval<double> whole{ 0.0, ray.Length };
-        std::vector<an::StepRecord<double>>* none = nullptr;
         const auto r = an::IntegratePiecewise(
-          volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, none, kernels);
+          volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, nullptr, kernels);
         ASSERT_EQ(r.Error, "");
       }
     }
@@ -263,11 +262,10 @@ TEST_P(PieceKernelsTargets, RaysMatchScalarAndHoldTolerance)
     {
       const adversarial::Ray ray = adversarial::MakeRay(c, i);
       const an::Interval<double> whole{ 0.0, ray.Length };
-      std::vector<an::StepRecord<double>>* none = nullptr;
       const auto scalar =
-        an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, none);
+        an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps);
       const auto vectorised = an::IntegratePiecewise(
-        volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, none, ae::PieceKernels());
+        volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, nullptr, ae::PieceKernels());
       const auto reference = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
         exact, an::PiecewiseReferenceTolerance<double>(), false);
       ASSERT_EQ(vectorised.Error, "");

@@ -135,6 +135,17 @@ constexpr Real PiecewiseReferenceTolerance()
 
 namespace detail
 {
+// T, in a context that template argument deduction skips: a parameter of
+// this type takes nullptr (or anything convertible) whatever T is deduced
+// from the others.
+template <typename T>
+struct NotDeducedType
+{
+  using Type = T;
+};
+template <typename T>
+using NotDeduced = typename NotDeducedType<T>::Type;
+
 // 1 / k for k = 1 .. 47: divisions by small integers become products (the
 // depth polynomial's coefficients, the series' terms).
 template <typename Real>
@@ -559,7 +570,8 @@ template <typename Real, typename VolumeT, typename Kernels = ScalarPieceKernels
 RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
   const PiecewiseTransferFunction<Real>& tf, Real tolerance, bool earlyTermination = true,
-  std::vector<StepRecord<Real>>* steps = nullptr, const Kernels& kernels = Kernels())
+  std::vector<StepRecord<detail::NotDeduced<Real>>>* steps = nullptr,
+  const Kernels& kernels = Kernels())
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
