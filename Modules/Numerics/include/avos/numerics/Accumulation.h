@@ -10,9 +10,10 @@
 //   independent of h (alpha' = tau h + O(h^2)). AdditiveAlongRay computes A
 //   exactly on every piece of the ray where s is a cubic and tau a cubic in
 //   s (Pieces.h): the integrand is a polynomial of degree at most 12 in t,
-//   which seven-point Gauss-Legendre integrates exactly (up to degree 13). In the extinction
-//   model tau is exact; in VTK's alpha model the pieces' tau is within a
-//   relative error r of the true one (Pieces.h), so A is within r A.
+//   which seven-point Gauss-Legendre integrates exactly (up to degree 13).
+//   In the extinction model tau is exact; in VTK's alpha model the pieces'
+//   tau is within a relative error r of the true one (Pieces.h), so A is
+//   within r A.
 // - Average: the mean of alpha'(s) n(s) over the samples whose scalar lies
 //   in a range [r0, r1], i.e. over the part of the ray where s is in the
 //   range: the length-weighted mean

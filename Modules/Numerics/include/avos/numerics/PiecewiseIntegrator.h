@@ -56,12 +56,14 @@
 // (h_A for A <= 1; the 40 terms settle once A is small enough for the tail
 // bound to meet the share). Hence at most 2 l / max(h_A', l 2^-40) + 1
 // sub-intervals per piece, h_A' the smaller constant, each after at most 40
-// halvings and with at most 40 series terms; and a piece stops as soon as what is left of J, at
-// most its transmittance times the variation of q over the rest, fits the rest's share (at once
-// when the transmittance underflows to 0). Since 2^41 steps would never end in practice, a piece is
-// refused (the ray reports an error) beyond 2^16 sub-intervals: only data near 1e100 against knots
-// near 1 needs them (found by fuzzing). A sample is one evaluation of the transfer function at an
-// interpolated scalar: one per piece (its end); the series needs none.
+// halvings and with at most 40 series terms; and a piece stops as soon as
+// what is left of J, at most its transmittance times the variation of q over
+// the rest, fits the rest's share (at once when the transmittance underflows
+// to 0). Since 2^41 steps would never end in practice, a piece is refused
+// (the ray reports an error) beyond 2^16 sub-intervals: only data near 1e100
+// against knots near 1 needs them (found by fuzzing). A sample is one
+// evaluation of the transfer function at an interpolated scalar: one per
+// piece (its end); the series needs none.
 //
 // Batches. The walk hands its pieces over in batches of PieceBatch::Capacity
 // (8), integrated by a kernel a batch at a time (ScalarPieceKernels here; the
