@@ -47,8 +47,7 @@ struct PrevisualizationKey
   // object's MTime: ParaView modifies the volume's point data on every
   // update of the filter while its scalars array stays the same.
   vtkMTimeType VolumeScalars = 0;
-  std::array<int, 6> VolumeExtent{};
-  std::array<double, 15> VolumeGeometry{}; // origin, spacing, direction
+  std::array<double, 21> VolumeGrid{}; // vtkVolumeOnSurfaceFilter::GetGrid
   vtkMTimeType Property = 0;
 
   bool operator==(const PrevisualizationKey& o) const
@@ -57,8 +56,8 @@ struct PrevisualizationKey
       this->Method == o.Method && this->SampleDistance == o.SampleDistance &&
       this->Tolerance == o.Tolerance && this->Extinction == o.Extinction &&
       this->Skipping == o.Skipping && this->Surface == o.Surface &&
-      this->VolumeScalars == o.VolumeScalars && this->VolumeExtent == o.VolumeExtent &&
-      this->VolumeGeometry == o.VolumeGeometry && this->Property == o.Property;
+      this->VolumeScalars == o.VolumeScalars && this->VolumeGrid == o.VolumeGrid &&
+      this->Property == o.Property;
   }
 };
 
@@ -188,6 +187,15 @@ int vtkVolumeOnSurfaceFilter::RequestUpdateExtent(
     volumeInfo->Set(vtkStreamingDemandDrivenPipeline::EXACT_EXTENT(), 1);
   }
   return 1;
+}
+
+void vtkVolumeOnSurfaceFilter::GetGrid(vtkImageData* image, double grid[21])
+{
+  const int* extent = image->GetExtent();
+  std::copy_n(extent, 6, grid);
+  std::copy_n(image->GetOrigin(), 3, grid + 6);
+  std::copy_n(image->GetSpacing(), 3, grid + 9);
+  std::copy_n(image->GetDirectionMatrix()->GetData(), 9, grid + 12);
 }
 
 bool vtkVolumeOnSurfaceFilter::HoldsPart(
@@ -328,10 +336,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   key.Surface = surface->GetMTime();
   vtkDataArray* volumeScalars = volume->GetPointData()->GetScalars();
   key.VolumeScalars = volumeScalars ? volumeScalars->GetMTime() : 0;
-  volume->GetExtent(key.VolumeExtent.data());
-  volume->GetOrigin(key.VolumeGeometry.data());
-  volume->GetSpacing(key.VolumeGeometry.data() + 3);
-  std::copy_n(volume->GetDirectionMatrix()->GetData(), 9, key.VolumeGeometry.data() + 6);
+  GetGrid(volume, key.VolumeGrid.data());
   key.Property = this->VolumeProperty->GetMTime();
   if (!in.HaveRays || !(key == in.Key))
   {

@@ -216,6 +216,13 @@ protected:
    */
   static bool HoldsPart(vtkImageData* received, vtkInformation* volumeInfo, int whole[6]);
 
+  /**
+   * The grid `image` samples: its extent, origin, spacing and direction
+   * (row by row), in that order. Two volumes with the same grid and the same
+   * scalars are the same volume.
+   */
+  static void GetGrid(vtkImageData* image, double grid[21]);
+
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCamera* Camera = nullptr;
   int RaysPerCone = 4;

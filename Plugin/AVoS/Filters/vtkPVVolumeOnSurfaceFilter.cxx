@@ -13,26 +13,11 @@
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <vector>
 
 vtkStandardNewMacro(vtkPVVolumeOnSurfaceFilter);
-
-namespace
-{
-// The same extent, origin, spacing and direction.
-bool SameGrid(vtkImageData* a, vtkImageData* b)
-{
-  int ea[6], eb[6];
-  a->GetExtent(ea);
-  b->GetExtent(eb);
-  const double* da = a->GetDirectionMatrix()->GetData();
-  const double* db = b->GetDirectionMatrix()->GetData();
-  return std::equal(ea, ea + 6, eb) &&
-    std::equal(a->GetOrigin(), a->GetOrigin() + 3, b->GetOrigin()) &&
-    std::equal(a->GetSpacing(), a->GetSpacing() + 3, b->GetSpacing()) && std::equal(da, da + 9, db);
-}
-} // namespace
 
 vtkPVVolumeOnSurfaceFilter::vtkPVVolumeOnSurfaceFilter()
 {
@@ -124,31 +109,31 @@ vtkSmartPointer<vtkImageData> vtkPVVolumeOnSurfaceFilter::AssembleVolume(
   for (int sender = 0; sender < controller->GetNumberOfProcesses(); ++sender)
   {
     auto piece = vtkSmartPointer<vtkImageData>::New();
-    int pieceExtent[6] = { 0, -1, 0, -1, 0, -1 };
-    double geometry[15] = {}; // origin, spacing, direction
+    double grid[21] = { 0, -1, 0, -1, 0, -1 }; // an empty extent, as GetGrid lays it out
     if (sender == controller->GetLocalProcessId() && received && scalars)
     {
       piece->CopyStructure(received);
       piece->GetPointData()->SetScalars(scalars);
-      received->GetExtent(pieceExtent);
-      received->GetOrigin(geometry);
-      received->GetSpacing(geometry + 3);
-      std::copy_n(received->GetDirectionMatrix()->GetData(), 9, geometry + 6);
+      GetGrid(received, grid);
     }
-    // The extent and geometry travel on their own: the data object's
-    // serialisation keeps the dimensions, not where the piece starts.
-    controller->Broadcast(pieceExtent, 6, sender);
-    controller->Broadcast(geometry, 15, sender);
+    // The grid travels on its own: the data object's serialisation keeps
+    // the dimensions, not where the piece starts.
+    controller->Broadcast(grid, 21, sender);
     controller->Broadcast(piece, sender);
+    int pieceExtent[6];
+    for (int a = 0; a < 6; ++a)
+    {
+      pieceExtent[a] = static_cast<int>(grid[a]);
+    }
     vtkDataArray* pieceScalars = piece->GetPointData()->GetScalars();
     if (pieceExtent[0] > pieceExtent[1] || !pieceScalars || failed)
     {
       continue; // an empty piece, or a process that holds none
     }
     piece->SetExtent(pieceExtent);
-    piece->SetOrigin(geometry);
-    piece->SetSpacing(geometry + 3);
-    piece->SetDirectionMatrix(geometry + 6);
+    piece->SetOrigin(grid + 6);
+    piece->SetSpacing(grid + 9);
+    piece->SetDirectionMatrix(grid + 12);
     if (!wholeVolume->GetPointData()->GetScalars())
     {
       wholeVolume->SetExtent(whole);
@@ -206,7 +191,13 @@ vtkImageData* vtkPVVolumeOnSurfaceFilter::Keep(vtkImageData* volume, vtkMTimeTyp
   // the volume kept stays, so that nothing downstream sees it changed.
   vtkDataArray* before = this->Kept ? this->Kept->GetPointData()->GetScalars() : nullptr;
   vtkDataArray* now = volume->GetPointData()->GetScalars();
-  if (before && now && SameGrid(this->Kept, volume) &&
+  auto grid = [](vtkImageData* image)
+  {
+    std::array<double, 21> g;
+    GetGrid(image, g.data());
+    return g;
+  };
+  if (before && now && grid(this->Kept) == grid(volume) &&
     before->GetDataType() == now->GetDataType() &&
     before->GetNumberOfComponents() == now->GetNumberOfComponents() &&
     before->GetNumberOfTuples() == now->GetNumberOfTuples() &&
