@@ -235,6 +235,13 @@ TEST(Riemann, Validate)
   EXPECT_NE(ae::Validate(volume), "");
   volume.Dimensions[2] = 1;
   EXPECT_NE(ae::Validate(volume), "");
+  // 2^30 + 2^20 points: 8-bit ones by index, not 16-bit ones by byte offset.
+  volume.Dimensions[0] = volume.Dimensions[1] = 1024;
+  volume.Dimensions[2] = 1025;
+  volume.Scalars = ae::Volume::Type::UInt8;
+  EXPECT_EQ(ae::Validate(volume), "");
+  volume.Scalars = ae::Volume::Type::UInt16;
+  EXPECT_NE(ae::Validate(volume), "");
   ae::TransferTable table;
   EXPECT_NE(table.Build(an::TransferFunction<double>()), "");
 }

@@ -345,9 +345,12 @@ std::string Validate(const Volume& volume)
     }
     points *= volume.Dimensions[a];
   }
-  if (points > double(std::numeric_limits<std::int32_t>::max()))
+  // 16-bit scalars are gathered by byte offset: twice the index.
+  if (points * (volume.Scalars == Volume::Type::UInt16 ? 2.0 : 1.0) >
+    double(std::numeric_limits<std::int32_t>::max()))
   {
-    return "the vectorised kernels take at most 2^31 - 1 points (32-bit gather indices)";
+    return "the vectorised kernels take at most 2^31 - 1 points (2^30 of 16-bit scalars: 32-bit "
+           "gather offsets)";
   }
   return volume.Data ? std::string() : "the volume has no data";
 }
