@@ -17,7 +17,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 namespace an = avos::numerics;
@@ -40,7 +42,7 @@ struct Differences
 // Runs the scalar kernels (their results go on: the ray is the scalar one)
 // and the vectorised ones on a copy of every batch, and records how far
 // apart they are.
-struct ComparingKernels
+struct ComparingKernels : an::ScalarCellKernels<double>
 {
   Differences* Record;
 
@@ -143,7 +145,7 @@ TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
   // The kernels dispatch to the target forced.
   EXPECT_STREQ(ae::PieceKernelsTarget(), hwy::TargetName(this->GetParam()));
   Differences d;
-  const ComparingKernels kernels{ &d };
+  const ComparingKernels kernels{ {}, &d };
   for (const adversarial::Case& c : Cases())
   {
     for (double eps : { 1e-2, 1e-3, 1e-5 })
@@ -283,6 +285,227 @@ TEST_P(PieceKernelsTargets, RaysMatchScalarAndHoldTolerance)
   EXPECT_LE(worstReference, 1e-3);
   std::printf("%s: %ld rays, largest difference from the scalar kernels %.2g, from the "
               "reference %.2g (eps 1e-3)\n",
+    ae::PieceKernelsTarget(), rays, worstScalar, worstReference);
+}
+
+// 8- and 16-bit volumes from the suite's fields (rounded; the 16-bit ones
+// scaled by 200) and their transfer functions over the same span, as the
+// walk reads them and as the engine does (padded).
+struct Narrow
+{
+  std::string Name;
+  int Dimensions[3] = { 0, 0, 0 };
+  bool Sixteen = false;
+  std::vector<std::uint8_t> Bytes; // the scalars, little endian, then the padding
+  an::TransferFunction<double> TF;
+
+  ae::Volume Engine() const
+  {
+    ae::Volume v;
+    v.Data = this->Bytes.data();
+    v.Scalars = this->Sixteen ? ae::Volume::Type::UInt16 : ae::Volume::Type::UInt8;
+    std::copy(this->Dimensions, this->Dimensions + 3, v.Dimensions);
+    return v;
+  }
+};
+
+std::vector<Narrow> NarrowCases()
+{
+  std::vector<Narrow> cases;
+  unsigned seed = 0;
+  for (const adversarial::Case& c : adversarial::MakeSuite())
+  {
+    for (bool sixteen : { false, true })
+    {
+      Narrow n;
+      n.Name = c.Name;
+      n.Sixteen = sixteen;
+      std::copy(c.Dimensions, c.Dimensions + 3, n.Dimensions);
+      const double scale = sixteen ? 200.0 : 1.0;
+      for (double v : c.Data)
+      {
+        const auto q = static_cast<std::uint16_t>(std::lround(v * scale));
+        n.Bytes.push_back(static_cast<std::uint8_t>(q & 0xFF));
+        if (sixteen)
+        {
+          n.Bytes.push_back(static_cast<std::uint8_t>(q >> 8));
+        }
+      }
+      n.Bytes.resize(n.Bytes.size() + ae::Volume::Padding, 0);
+      // Knots at fractions and at integers, over all of the range or over
+      // the middle of it (cells below and above the tables), transparent
+      // between some, in both models.
+      ++seed;
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      const bool middle = seed % 3 == 0;
+      std::vector<double> knots;
+      for (int k = 0; k < 8 + static_cast<int>(seed % 4) * 6; ++k)
+      {
+        const double v = (middle ? 60.0 + 120.0 * u(rng) : 255.0 * u(rng)) * scale;
+        knots.push_back(seed % 2 == 0 ? std::round(v) : v);
+      }
+      std::sort(knots.begin(), knots.end());
+      for (double v : knots)
+      {
+        n.TF.AddOpacityKnot(v, u(rng) < 0.4 ? 0.0 : 1.5 * u(rng) * u(rng));
+        n.TF.AddColorKnot(v, u(rng), u(rng), u(rng));
+      }
+      if (seed % 3 == 1)
+      {
+        n.TF.SetOpacityModel(an::OpacityModel::Alpha, 1.0);
+      }
+      n.TF.Finalize();
+      cases.push_back(std::move(n));
+    }
+  }
+  return cases;
+}
+
+// Runs the scalar cells' stage (its results go on) and the vectorised one on
+// a copy of every batch, and counts where they differ.
+struct ComparingCells : an::ScalarPieceKernels<double>
+{
+  const ae::Volume* Engine = nullptr;
+  long* Total = nullptr;
+  long* Visible = nullptr;
+  long* Mismatches = nullptr;
+  double* Cubic = nullptr; // largest difference, relative to the corners' largest value
+
+  template <typename VolumeT>
+  void Cells(const VolumeT& volume, const an::PiecewiseTransferFunction<double>& tf,
+    const glm::dvec3& origin, const glm::dvec3& direction, an::CellBatch<double>& b) const
+  {
+    an::CellBatch<double> v = b;
+    ae::PieceKernels(this->Engine).Cells(volume, tf, origin, direction, v);
+    an::ScalarCellKernels<double>().Cells(volume, tf, origin, direction, b);
+    for (int i = 0; i < b.Count; ++i)
+    {
+      ++*this->Total;
+      if (v.Visible[i] != b.Visible[i])
+      {
+        ++*this->Mismatches;
+        continue;
+      }
+      if (b.Visible[i] == 0)
+      {
+        continue;
+      }
+      ++*this->Visible;
+      *this->Mismatches += v.First[i] != b.First[i] || v.Crossings[i] != b.Crossings[i] ? 1 : 0;
+      double c[8];
+      volume.GetCorners(b.Index[0][i], b.Index[1][i], b.Index[2][i], c);
+      const double top = std::max(1.0, *std::max_element(c, c + 8));
+      for (int k = 0; k < 4; ++k)
+      {
+        *this->Cubic = std::max(*this->Cubic, std::abs(v.K[k][i] - b.K[k][i]) / top);
+      }
+    }
+  }
+};
+
+template <typename Storage>
+an::TrilinearVolume<double, Storage> WalkVolume(const Narrow& n)
+{
+  return an::TrilinearVolume<double, Storage>(
+    reinterpret_cast<const Storage*>(n.Bytes.data()), n.Dimensions);
+}
+
+// The cells' stage on 8- and 16-bit volumes: the vectorised kernel takes
+// them (unit tables) and gives what the scalar one does to the bit: the
+// same classification and the same cubic.
+TEST_P(PieceKernelsTargets, CellsMatchScalar)
+{
+  long cells = 0, visible = 0, mismatches = 0;
+  double cubic = 0.0;
+  for (const Narrow& n : NarrowCases())
+  {
+    const ae::Volume engine = n.Engine();
+    ASSERT_NE(ae::PieceKernels(&engine).Scalars, nullptr) << n.Name;
+    const double eps = 1e-3;
+    an::PiecewiseTransferFunction<double> tf;
+    ASSERT_EQ(tf.Build(n.TF, an::PiecewiseRelativeError(eps)), "");
+    ASSERT_GT(tf.GetUnitTables().Count, 0u) << n.Name;
+    ComparingCells kernels;
+    kernels.Engine = &engine;
+    kernels.Total = &cells;
+    kernels.Visible = &visible;
+    kernels.Mismatches = &mismatches;
+    kernels.Cubic = &cubic;
+    for (unsigned i = 0; i < 40; ++i)
+    {
+      adversarial::Case shape;
+      std::copy(n.Dimensions, n.Dimensions + 3, shape.Dimensions);
+      const adversarial::Ray ray = adversarial::MakeRay(shape, i);
+      const an::Interval<double> whole{ 0.0, ray.Length };
+      const auto r = n.Sixteen ? an::IntegratePiecewise(WalkVolume<std::uint16_t>(n), ray.Origin,
+                                   ray.Direction, &whole, 1, tf, eps, true, nullptr, kernels)
+                               : an::IntegratePiecewise(WalkVolume<std::uint8_t>(n), ray.Origin,
+                                   ray.Direction, &whole, 1, tf, eps, true, nullptr, kernels);
+      ASSERT_EQ(r.Error, "");
+    }
+  }
+  EXPECT_GT(cells, 10000);
+  EXPECT_GT(visible, 1000);
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(cubic, 0.0);
+  std::printf("%s: %ld cells (%ld visible), %ld classified differently, cubic within %.2g of the "
+              "corners' magnitude\n",
+    ae::PieceKernelsTarget(), cells, visible, mismatches, cubic);
+}
+
+// Whole rays through 8- and 16-bit volumes with every stage vectorised:
+// within 1e-10 of the scalar kernels, and within eps of the exact reference.
+TEST_P(PieceKernelsTargets, NarrowRaysMatchScalarAndHoldTolerance)
+{
+  double worstScalar = 0.0, worstReference = 0.0;
+  long rays = 0;
+  for (const Narrow& n : NarrowCases())
+  {
+    const ae::Volume engine = n.Engine();
+    an::PiecewiseTransferFunction<double> exact;
+    ASSERT_EQ(exact.Build(n.TF, 1e-7), "");
+    const double eps = 1e-3;
+    an::PiecewiseTransferFunction<double> tf;
+    ASSERT_EQ(tf.Build(n.TF, an::PiecewiseRelativeError(eps)), "");
+    adversarial::Case shape;
+    std::copy(n.Dimensions, n.Dimensions + 3, shape.Dimensions);
+    for (unsigned i = 0; i < 40; ++i)
+    {
+      const adversarial::Ray ray = adversarial::MakeRay(shape, i);
+      const an::Interval<double> whole{ 0.0, ray.Length };
+      auto run = [&](const auto& volume)
+      {
+        const auto scalar =
+          an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps);
+        const auto vectorised = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
+          tf, eps, true, nullptr, ae::PieceKernels(&engine));
+        const auto reference = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
+          exact, an::PiecewiseReferenceTolerance<double>(), false);
+        ASSERT_EQ(vectorised.Error, "");
+        EXPECT_EQ(vectorised.Statistics.Cells, scalar.Statistics.Cells);
+        for (int ch = 0; ch < 4; ++ch)
+        {
+          worstScalar = std::max(worstScalar, std::abs(vectorised.RGBA[ch] - scalar.RGBA[ch]));
+          worstReference =
+            std::max(worstReference, std::abs(vectorised.RGBA[ch] - reference.RGBA[ch]));
+        }
+      };
+      if (n.Sixteen)
+      {
+        run(WalkVolume<std::uint16_t>(n));
+      }
+      else
+      {
+        run(WalkVolume<std::uint8_t>(n));
+      }
+      ++rays;
+    }
+  }
+  EXPECT_LE(worstScalar, 1e-10);
+  EXPECT_LE(worstReference, 1e-3);
+  std::printf("%s: %ld rays through 8- and 16-bit volumes, largest difference from the scalar "
+              "kernels %.2g, from the reference %.2g (eps 1e-3)\n",
     ae::PieceKernelsTarget(), rays, worstScalar, worstReference);
 }
 

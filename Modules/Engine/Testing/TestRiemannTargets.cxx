@@ -7,6 +7,7 @@
 // rays and over empty-space segments.
 #include "AdversarialCases.h"
 
+#include "avos/engine/PieceKernels.h"
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
@@ -242,6 +243,8 @@ TEST(Riemann, Validate)
   EXPECT_EQ(ae::Validate(volume), "");
   volume.Scalars = ae::Volume::Type::UInt16;
   EXPECT_NE(ae::Validate(volume), "");
+  // Nor does the piecewise method's cells' kernel take them.
+  EXPECT_EQ(ae::PieceKernels(&volume).Scalars, nullptr);
   ae::TransferTable table;
   EXPECT_NE(table.Build(an::TransferFunction<double>()), "");
 }

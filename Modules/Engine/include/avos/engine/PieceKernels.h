@@ -12,14 +12,21 @@
 // - Series: SeriesIntegral's first sub-interval on each piece, the terms
 //   added in every lane until all lanes settle (a settled lane's sum is kept
 //   as it was when it settled), at most MaximumTerms + 1 terms.
+// - Cells (the walk's stage, numerics::CellBatch), when the kernels are
+//   given the volume's 8- or 16-bit scalars and the transfer function has
+//   its unit tables: the 8 corners gathered, their range classified from the
+//   tables, the cell's cubic; otherwise numerics::ScalarCellKernels.
 // Bound against numerics::ScalarPieceKernels: the same formulas, rounded in
 // another order (fused multiply-adds); relative 1e-13 in the depth's
 // coefficients and the transmittance, and in J but where a rounding tips a
-// decision (a term more or less, within the piece's share of eps).
+// decision (a term more or less, within the piece's share of eps). Cells:
+// the same to the bit (the classification from integers; the cubic by the
+// same operations in the same order, without fused multiply-adds).
 // Modules/Engine/Testing checks it on every dispatch target.
 #ifndef avos_engine_PieceKernels_h
 #define avos_engine_PieceKernels_h
 
+#include "avos/engine/Riemann.h" // Volume
 #include "avos/numerics/PiecewiseIntegrator.h"
 
 namespace avos
@@ -29,8 +36,43 @@ namespace engine
 
 struct PieceKernels
 {
+  PieceKernels() = default;
+  // `scalars`: the walk's volume as the engine reads it (the same values).
+  // Float32 scalars, or a volume Validate refuses, leave the cells' stage to
+  // numerics::ScalarCellKernels.
+  explicit PieceKernels(const Volume* scalars)
+    : Scalars(scalars && scalars->Scalars != Volume::Type::Float32 && Validate(*scalars).empty()
+          ? scalars
+          : nullptr)
+  {
+  }
+
   void Depths(numerics::PieceBatch<double>& batch) const;
   void Series(numerics::SeriesBatch<double>& batch) const;
+
+  template <typename VolumeT>
+  void Cells(const VolumeT& volume, const numerics::PiecewiseTransferFunction<double>& tf,
+    const glm::dvec3& origin, const glm::dvec3& direction, numerics::CellBatch<double>& batch) const
+  {
+    // The tables' integers in 32-bit lanes: |Base| + 65536 within them.
+    const auto tables = tf.GetUnitTables();
+    if (this->Scalars && tables.Count > 0 && std::abs(tables.Base) < 1073741824.0 &&
+      volume.GetDimension(0) == this->Scalars->Dimensions[0] &&
+      volume.GetDimension(1) == this->Scalars->Dimensions[1] &&
+      volume.GetDimension(2) == this->Scalars->Dimensions[2])
+    {
+      VectorisedCells(*this->Scalars, tables, &origin.x, &direction.x, batch);
+      return;
+    }
+    numerics::ScalarCellKernels<double>().Cells(volume, tf, origin, direction, batch);
+  }
+
+  const Volume* Scalars = nullptr;
+
+private:
+  static void VectorisedCells(const Volume& scalars,
+    const numerics::PiecewiseTransferFunction<double>::UnitTables& tables, const double* origin,
+    const double* direction, numerics::CellBatch<double>& batch);
 };
 
 // The name of the target the kernels dispatch to now.

@@ -172,7 +172,7 @@ public:
     // at both of its ends (tau is linear on it, or in the alpha model a
     // cubic within a relative error r < 1 of -ln(1 - alpha) / d, so zero at
     // both ends only where alpha is).
-    this->VisibleBefore.assign(1, 0);
+    this->VisibleBefore.assign(1, 0u);
     for (std::size_t i = 0; i < this->Pieces.size(); ++i)
     {
       const Piece& p = this->Pieces[i];
@@ -183,7 +183,7 @@ public:
         end = p.Tau + d * (p.TauSlope + d * (p.TauCurvature + d * p.TauCubic));
       }
       const bool visible = p.Tau > Real(0) || end > Real(0);
-      this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1 : 0));
+      this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1u : 0u));
     }
     this->MaximumColor = tf.GetMaximumColor();
     this->Locator.Build(std::move(knots));
@@ -264,6 +264,27 @@ public:
     // The pieces of lo to hi: visible when any of them is.
     c.Visible = this->VisibleBefore[last + 1] > this->VisibleBefore[c.First];
     return c;
+  }
+
+  // What ClassifyRange reads, for kernels that classify integer ranges in
+  // lanes: Locate(Base + i) = Upper[i] and CountBelow(Base + i) = Below[i]
+  // for i < Count (Count 0: no tables; below Base both are 0, from
+  // Base + Count on both are Knots), VisibleBefore[i] the visible pieces
+  // among the first i (Knots + 2 entries).
+  struct UnitTables
+  {
+    Real Base;
+    std::uint32_t Count;
+    std::uint32_t Knots;
+    const std::uint32_t* Upper;
+    const std::uint32_t* Below;
+    const std::uint32_t* VisibleBefore;
+  };
+  UnitTables GetUnitTables() const
+  {
+    return { this->UnitBase, static_cast<std::uint32_t>(this->UnitUpper.size()),
+      static_cast<std::uint32_t>(this->GetKnots().size()), this->UnitUpper.data(),
+      this->UnitBelow.data(), this->VisibleBefore.data() };
   }
 
 private:
@@ -417,7 +438,7 @@ private:
 
   KnotLocator<Real> Locator; // the knots between the pieces
   std::vector<Piece> Pieces;
-  std::vector<std::size_t> VisibleBefore;
+  std::vector<std::uint32_t> VisibleBefore; // pieces < 2^32 (MaximumKnots)
   Real UnitBase = Real(0);
   std::vector<std::uint32_t> UnitUpper, UnitBelow;
   Real MaximumColor = Real(0);
@@ -654,51 +675,105 @@ Cubic<Real> CellCubic(const Real c[8], const glm::vec<3, Real>& e, const glm::ve
   return s;
 }
 
+// Consecutive cells of one ray (CellWalk), in lanes: what PieceWalk needs of
+// each before cutting it into pieces.
+template <typename Real>
+struct CellBatch
+{
+  // A multiple of the widest vector of Real of any target (8 doubles).
+  static constexpr int Capacity = 8;
+  int Count = 0;
+  // In: the cell (i, j, k) and the part [Begin, End] of the ray inside it.
+  alignas(64) std::int32_t Index[3][Capacity];
+  alignas(64) Real Begin[Capacity];
+  alignas(64) Real End[Capacity];
+  // Out: whether the cell holds anything visible (ClassifyRange of its
+  // corners' range; 0 where a corner is not finite), and where it does, the
+  // piece of the corners' lowest value, whether a knot lies strictly inside
+  // their range, and the cubic s(u), u = t - Begin (CellCubic).
+  alignas(64) std::int32_t Visible[Capacity];
+  alignas(64) std::int32_t First[Capacity];
+  alignas(64) std::int32_t Crossings[Capacity];
+  alignas(64) Real K[4][Capacity];
+};
+
+// The cells' stage of PieceWalk, a cell at a time (the reference the
+// engine's kernels are tested against).
+template <typename Real>
+struct ScalarCellKernels
+{
+  template <typename VolumeT>
+  void Cells(const VolumeT& volume, const PiecewiseTransferFunction<Real>& tf,
+    const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction, CellBatch<Real>& b) const
+  {
+    for (int i = 0; i < b.Count; ++i)
+    {
+      const int index[3] = { b.Index[0][i], b.Index[1][i], b.Index[2][i] };
+      Real c[8];
+      volume.GetCorners(index[0], index[1], index[2], c);
+      Real lo = c[0], hi = c[0];
+      for (int k = 1; k < 8; ++k)
+      {
+        lo = std::min(lo, c[k]);
+        hi = std::max(hi, c[k]);
+      }
+      // The sum is finite only when every corner is (a NaN escapes
+      // min/max): the interpolant is undefined elsewhere, transparent as a
+      // NaN sample is.
+      b.Visible[i] = 0;
+      if (!std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]))
+      {
+        continue;
+      }
+      const auto range = tf.ClassifyRange(lo, hi);
+      if (!range.Visible)
+      {
+        continue;
+      }
+      b.Visible[i] = 1;
+      b.First[i] = static_cast<std::int32_t>(range.First);
+      b.Crossings[i] = range.Crossings ? 1 : 0;
+      const Cubic<Real> s = CellCubic(c,
+        origin + b.Begin[i] * direction -
+          glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2])),
+        direction);
+      for (int k = 0; k < 4; ++k)
+      {
+        b.K[k][i] = s.K[k];
+      }
+    }
+  }
+};
+
 // Walks the ray origin + t direction over [tBegin, tEnd] (CellWalk) and calls
 // visit(const RayPiece&) for every smooth piece whose transfer-function piece
 // is visible, front to back; visit returns false to stop the walk. Cells
 // whose corners the transfer function maps to tau = 0 are passed over
-// without building their cubic, and so are cells with a non-finite corner
-// (the interpolant is undefined there: transparent, as a NaN sample is).
-// `cells` counts the cells whose cubic was built. Returns false when stopped.
-template <typename Real, typename VolumeT, typename Visit>
+// without cutting them (the lanes of `kernels` may have built their cubic),
+// and so are cells with a non-finite corner. The cells go through
+// kernels.Cells (ScalarCellKernels, or a vectorised one of the engine) in
+// batches of at most *cellLimit (when given; CellBatch::Capacity otherwise):
+// a stopped walk has done that stage for at most that many cells too many.
+// `cells` counts the visible cells. Returns false when stopped.
+template <typename Real, typename VolumeT, typename Visit,
+  typename Kernels = ScalarCellKernels<Real>>
 bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, Real tBegin, Real tEnd,
-  const PiecewiseTransferFunction<Real>& tf, long& cells, Visit&& visit)
+  const PiecewiseTransferFunction<Real>& tf, long& cells, Visit&& visit,
+  const Kernels& kernels = Kernels(), const int* cellLimit = nullptr)
 {
   const std::vector<Real>& knots = tf.GetKnots();
-  auto cell = [&](const int index[3], Real t, Real t1) -> bool
+  // The cell of lane i, once kernels.Cells found it visible.
+  auto cut = [&](const CellBatch<Real>& batch, int lane) -> bool
   {
-    Real c[8];
-    volume.GetCorners(index[0], index[1], index[2], c);
-    Real lo = c[0], hi = c[0];
-    for (int i = 1; i < 8; ++i)
-    {
-      lo = std::min(lo, c[i]);
-      hi = std::max(hi, c[i]);
-    }
-    // The sum is finite only when every corner is (a NaN escapes min/max).
-    if (!std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]))
-    {
-      return true;
-    }
-    // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
-    // inside, the whole cell lies in one transfer-function piece (a corner
-    // value on a knot is met at isolated points only): no crossing to find,
-    // and nothing to do at all when that piece is transparent.
-    const auto range = tf.ClassifyRange(lo, hi);
-    if (!range.Visible)
-    {
-      return true;
-    }
-    const std::size_t first = range.First;
-    const bool crossings = range.Crossings;
+    const std::size_t first = static_cast<std::size_t>(batch.First[lane]);
+    const bool crossings = batch.Crossings[lane] != 0;
     ++cells;
     // The cubic in u = t - t (cell entry).
-    const Cubic<Real> s = CellCubic(c,
-      origin + t * direction - glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2])),
-      direction);
-    const Real length = t1 - t;
+    const Real t = batch.Begin[lane];
+    const Cubic<Real> s{ { batch.K[0][lane], batch.K[1][lane], batch.K[2][lane],
+      batch.K[3][lane] } };
+    const Real length = batch.End[lane] - t;
     auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
     {
       RayPiece<Real> rp;
@@ -774,7 +849,37 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
     return true;
   };
-  return CellWalk(volume, origin, direction, tBegin, tEnd, cell);
+  CellBatch<Real> batch;
+  // Cuts the batch's visible cells in order; false once visit stops.
+  auto flush = [&]() -> bool
+  {
+    kernels.Cells(volume, tf, origin, direction, batch);
+    const int count = batch.Count;
+    batch.Count = 0;
+    for (int i = 0; i < count; ++i)
+    {
+      if (batch.Visible[i] != 0 && !cut(batch, i))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  bool going = CellWalk(volume, origin, direction, tBegin, tEnd,
+    [&](const int index[3], Real t, Real t1) -> bool
+    {
+      const int i = batch.Count++;
+      for (int a = 0; a < 3; ++a)
+      {
+        batch.Index[a][i] = index[a];
+      }
+      batch.Begin[i] = t;
+      batch.End[i] = t1;
+      const int limit = cellLimit ? std::min(std::max(*cellLimit, 1), CellBatch<Real>::Capacity)
+                                  : CellBatch<Real>::Capacity;
+      return batch.Count < limit || flush();
+    });
+  return going && (batch.Count == 0 || flush());
 }
 
 } // namespace numerics

@@ -65,12 +65,13 @@
 // evaluation of the transfer function at an interpolated scalar: one per
 // piece (its end); the series needs none.
 //
-// Batches. The walk hands its pieces over in batches of PieceBatch::Capacity
-// (8), integrated by a kernel a batch at a time (ScalarPieceKernels here; the
-// engine's vectorised one takes a piece per SIMD lane), in order, so the
-// result is the same as piece by piece; only the walk may run up to 7 pieces
-// past the point where early termination stops the ray (never integrated;
-// batches shrink as the ray nears it).
+// Batches. The walk takes the ray's cells in batches (CellBatch: corners,
+// range, cubic) and hands its pieces over in batches of PieceBatch::Capacity
+// (8), each stage run by a kernel a batch at a time (ScalarPieceKernels here;
+// the engine's vectorised one takes a cell or a piece per SIMD lane), in
+// order, so the result is the same as piece by piece; only the walk may run
+// up to 7 cells and 7 pieces past the point where early termination stops
+// the ray (never integrated; batches shrink as the ray nears it).
 #ifndef avos_numerics_PiecewiseIntegrator_h
 #define avos_numerics_PiecewiseIntegrator_h
 
@@ -515,8 +516,10 @@ struct SeriesBatch
   }
 };
 
+// The piecewise method's stages a piece (a cell) at a time: the reference
+// the engine's kernels are tested against.
 template <typename Real>
-struct ScalarPieceKernels
+struct ScalarPieceKernels : ScalarCellKernels<Real>
 {
   void Depths(PieceBatch<Real>& b) const
   {
@@ -750,8 +753,9 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
 
   for (std::size_t j = 0; j < count && !stopped; ++j)
   {
-    PieceWalk(
-      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, gather);
+    // The cells' stage takes no more cells at a time than the pieces'.
+    PieceWalk(volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells,
+      gather, kernels, &limit);
   }
   if (!stopped && batch.Count > 0)
   {
