@@ -134,6 +134,9 @@ struct Method
   // RIEMANN (null: the scalar sum).
   const avos::engine::Volume* EngineVolume = nullptr;
   const avos::engine::TransferTable* EngineTable = nullptr;
+  // The same copy of 8- and 16-bit scalars for PIECEWISE_ADAPTIVE's cells
+  // (null: the scalar walk).
+  const avos::engine::Volume* CellScalars = nullptr;
   // Gradient shading of the emission (null: none), with the grid-to-world
   // matrix's linear part (ray directions to world) and the normal matrix
   // (grid gradients to world).
@@ -422,9 +425,10 @@ void IntegrateRay(const an::TrilinearVolume<double, Storage>& volume, const Fram
             { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       break;
     case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
-      // Its pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
+      // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-        *method.Pieces, method.Adaptive.Tolerance, true, steps, avos::engine::PieceKernels());
+        *method.Pieces, method.Adaptive.Tolerance, true, steps,
+        avos::engine::PieceKernels(method.CellScalars));
       break;
     default:
       result = WithField(volume, method, origin, direction,
@@ -941,11 +945,17 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
 
   // Scalars and transfer function -> the vectorised engine's copies (RIEMANN;
-  // volumes beyond its 32-bit indices take the scalar sum).
+  // volumes beyond its 32-bit indices take the scalar sum), and the scalars
+  // alone for the piecewise method's cells where they are 8- or 16-bit (no
+  // float copy: the cells' kernel does not take it).
   // (Shaded sums take the scalar path: the kernels do not shade.)
-  const avos::engine::Volume* engine = this->IntegrationMethod == RIEMANN && !shade
-    ? internals.EngineScalars.Update(scalars, dims)
-    : nullptr;
+  const int scalarType = scalars->GetDataType();
+  const bool riemannEngine = this->IntegrationMethod == RIEMANN && !shade;
+  const bool cellEngine = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
+    (scalarType == VTK_UNSIGNED_CHAR || scalarType == VTK_UNSIGNED_SHORT);
+  const avos::engine::Volume* engineScalars =
+    riemannEngine || cellEngine ? internals.EngineScalars.Update(scalars, dims) : nullptr;
+  const avos::engine::Volume* engine = riemannEngine ? engineScalars : nullptr;
   if (engine && internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error = internals.EngineTable.Build(internals.TF);
@@ -1101,6 +1111,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Pieces = piecewise ? &internals.Pieces : nullptr;
     method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
+    method.CellScalars = cellEngine ? engineScalars : nullptr;
     if (shade)
     {
       method.Shading = &internals.Shading;

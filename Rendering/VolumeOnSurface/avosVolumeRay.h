@@ -58,7 +58,9 @@ struct VolumeRaySetup
   avos::numerics::TransferFunction<double> TF;
   avos::numerics::PiecewiseTransferFunction<double> Pieces; // for RayIntegration::Piecewise
   // For RayIntegration::Levoy: the vectorised Riemann kernel's volume
-  // (EngineVolume; null: the scalar sum) and transfer table.
+  // (EngineVolume; null: the scalar sum) and transfer table. For
+  // RayIntegration::Piecewise: the same volume for the cells' kernel (null:
+  // the scalar walk; see ReadsEngineScalars).
   const avos::engine::Volume* Engine = nullptr;
   avos::engine::TransferTable Table;
   RayIntegration Method = RayIntegration::Levoy;
@@ -166,6 +168,17 @@ struct VolumeRaySetup
   template <typename F>
   bool Dispatch(F&& f) const;
 };
+
+// Whether the rays of `setup` read the engine's copy of the scalars: the
+// Riemann kernel's, and the piecewise method's cells where the scalars are
+// 8- or 16-bit (the cells' kernel takes no float copy).
+inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
+{
+  const int type = setup.Scalars ? setup.Scalars->GetDataType() : VTK_VOID;
+  return setup.Method == RayIntegration::Levoy ||
+    (setup.Method == RayIntegration::Piecewise &&
+      (type == VTK_UNSIGNED_CHAR || type == VTK_UNSIGNED_SHORT));
+}
 
 template <typename Storage>
 class VolumeRay
@@ -316,10 +329,10 @@ private:
     }
     if (this->Setup.Method == RayIntegration::Piecewise)
     {
-      // Its pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
+      // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = avos::numerics::IntegratePiecewise(this->Volume, origin, back, segments.data(),
         segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, nullptr,
-        avos::engine::PieceKernels());
+        avos::engine::PieceKernels(this->Setup.Engine));
       return;
     }
     if (this->Setup.Engine)

@@ -351,7 +351,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
       return 1;
     }
     setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
-    setup.Engine = setup.Method == avos::RayIntegration::Levoy
+    setup.Engine = avos::ReadsEngineScalars(setup)
       ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
       : nullptr;
     in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));

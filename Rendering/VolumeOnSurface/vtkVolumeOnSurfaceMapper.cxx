@@ -924,7 +924,7 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       return;
     }
     setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
-    setup.Engine = setup.Method == avos::RayIntegration::Levoy
+    setup.Engine = avos::ReadsEngineScalars(setup)
       ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
       : nullptr;
     // The surface drawn: the level's, or the full one whose other vertices
