@@ -18,6 +18,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <random>
 #include <string>
@@ -35,6 +36,7 @@ struct Fixture
 {
   std::vector<double> Data;
   std::vector<float> DataF;
+  std::vector<std::uint8_t> Bytes; // Data rounded, padded for the engine
   int Dimensions[3] = { Size, Size, Size };
   an::TransferFunction<double> TF;
   ae::TransferTable Table;
@@ -55,6 +57,11 @@ struct Fixture
       }
     }
     DataF.assign(Data.begin(), Data.end());
+    for (double v : Data)
+    {
+      Bytes.push_back(static_cast<std::uint8_t>(std::lround(v)));
+    }
+    Bytes.resize(Bytes.size() + ae::Volume::Padding, 0);
     TF = adversarial::Random(5, 64, alpha ? 0.05 : 0.02);
     if (alpha)
     {
@@ -270,11 +277,10 @@ const an::PiecewiseTransferFunction<double>& GetPieces(int coarse)
   return *pieces[coarse];
 }
 
-template <typename Kernels>
-void Pieces(benchmark::State& state, const Kernels& kernels, int coarse)
+template <typename VolumeT, typename Kernels>
+void PiecesOn(benchmark::State& state, const VolumeT& volume, const Kernels& kernels, int coarse)
 {
   const Fixture& f = Get(true);
-  const an::TrilinearVolume<double, double> volume(f.Data.data(), f.Dimensions);
   const an::PiecewiseTransferFunction<double>& tf = GetPieces(coarse);
   long rays = 0, pieces = 0;
   for (auto _ : state)
@@ -292,17 +298,52 @@ void Pieces(benchmark::State& state, const Kernels& kernels, int coarse)
   Report(state, rays, pieces, "piece");
 }
 
+// On the double fixture, or on its 8-bit copy (bytes).
+template <typename Kernels>
+void Pieces(benchmark::State& state, const Kernels& kernels, int coarse, bool bytes = false)
+{
+  const Fixture& f = Get(true);
+  if (bytes)
+  {
+    PiecesOn(state, an::TrilinearVolume<double, std::uint8_t>(f.Bytes.data(), f.Dimensions),
+      kernels, coarse);
+    return;
+  }
+  PiecesOn(
+    state, an::TrilinearVolume<double, double>(f.Data.data(), f.Dimensions), kernels, coarse);
+}
+
 void PiecesScalar(benchmark::State& state)
 {
   Pieces(state, an::ScalarPieceKernels<double>(), static_cast<int>(state.range(0)));
 }
 BENCHMARK(PiecesScalar)->ArgName("coarse")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+void BytePiecesScalar(benchmark::State& state)
+{
+  Pieces(state, an::ScalarPieceKernels<double>(), static_cast<int>(state.range(0)), true);
+}
+BENCHMARK(BytePiecesScalar)->ArgName("coarse")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 void PiecesVectorised(benchmark::State& state)
 {
   hwy::SetSupportedTargetsForTest(state.range(0));
   state.SetLabel(ae::PieceKernelsTarget());
   Pieces(state, ae::PieceKernels(), static_cast<int>(state.range(1)));
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// The cells' stage vectorised too (8-bit scalars).
+void BytePiecesVectorised(benchmark::State& state)
+{
+  const Fixture& f = Get(true);
+  ae::Volume volume;
+  volume.Data = f.Bytes.data();
+  volume.Scalars = ae::Volume::Type::UInt8;
+  std::copy(f.Dimensions, f.Dimensions + 3, volume.Dimensions);
+  hwy::SetSupportedTargetsForTest(state.range(0));
+  state.SetLabel(ae::PieceKernelsTarget());
+  Pieces(state, ae::PieceKernels(&volume), static_cast<int>(state.range(1)), true);
   hwy::SetSupportedTargetsForTest(0);
 }
 
@@ -325,6 +366,12 @@ void RegisterTargets()
                                      "/coarse:" + std::to_string(coarse))
                                      .c_str(),
         PiecesVectorised)
+        ->Args({ target, coarse })
+        ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark((std::string("BytePiecesVectorised/") + hwy::TargetName(target) +
+                                     "/coarse:" + std::to_string(coarse))
+                                     .c_str(),
+        BytePiecesVectorised)
         ->Args({ target, coarse })
         ->Unit(benchmark::kMillisecond);
     }
