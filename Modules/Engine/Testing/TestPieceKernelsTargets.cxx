@@ -36,6 +36,7 @@ struct Differences
 {
   long Pieces = 0, Tested = 0, MonotoneMismatches = 0;
   long SeriesPieces = 0, Settled = 0, SettledMismatches = 0;
+  long Crossings = 0, CrossingMismatches = 0;
   double Depth = 0.0, Transmittance = 0.0, J = 0.0;
 };
 
@@ -45,6 +46,19 @@ struct Differences
 struct ComparingKernels : an::ScalarCellKernels<double>
 {
   Differences* Record;
+
+  // Knot crossings: the same to the bit.
+  void Crossings(an::CrossingBatch<double>& b) const
+  {
+    an::CrossingBatch<double> vectorised = b;
+    ae::PieceKernels().Crossings(vectorised);
+    an::ScalarCellKernels<double>().Crossings(b);
+    for (int i = 0; i < b.Count; ++i)
+    {
+      ++this->Record->Crossings;
+      this->Record->CrossingMismatches += vectorised.Root[i] != b.Root[i] ? 1 : 0;
+    }
+  }
 
   void Depths(Batch& b) const
   {
@@ -172,10 +186,13 @@ TEST_P(PieceKernelsTargets, BatchesWithinRoundingOfScalar)
   EXPECT_LE(d.Transmittance, 1e-13);
   EXPECT_LE(d.J, 1e-13);
   EXPECT_EQ(d.SettledMismatches, 0);
+  EXPECT_GT(d.Crossings, 10000);
+  EXPECT_EQ(d.CrossingMismatches, 0);
   std::printf("%s: %ld pieces (%ld tested for monotony), %ld series (%ld settled on the whole "
-              "piece); largest differences: depth %.2g, transmittance %.2g, J %.2g\n",
+              "piece); largest differences: depth %.2g, transmittance %.2g, J %.2g; %ld knot "
+              "crossings, %ld different\n",
     ae::PieceKernelsTarget(), d.Pieces, d.Tested, d.SeriesPieces, d.Settled, d.Depth,
-    d.Transmittance, d.J);
+    d.Transmittance, d.J, d.Crossings, d.CrossingMismatches);
 }
 
 // Lanes past the batch's count, pieces of length 0, extinction whose
@@ -371,6 +388,20 @@ struct ComparingCells : an::ScalarPieceKernels<double>
   long* Visible = nullptr;
   long* Mismatches = nullptr;
   double* Cubic = nullptr; // largest difference, relative to the corners' largest value
+  long* Crossed = nullptr;
+  long* RootMismatches = nullptr;
+
+  void Crossings(an::CrossingBatch<double>& b) const
+  {
+    an::CrossingBatch<double> v = b;
+    ae::PieceKernels().Crossings(v);
+    an::ScalarCellKernels<double>().Crossings(b);
+    for (int i = 0; i < b.Count; ++i)
+    {
+      ++*this->Crossed;
+      *this->RootMismatches += v.Root[i] != b.Root[i] ? 1 : 0;
+    }
+  }
 
   template <typename VolumeT>
   void Cells(const VolumeT& volume, const an::PiecewiseTransferFunction<double>& tf,
@@ -416,7 +447,7 @@ an::TrilinearVolume<double, Storage> WalkVolume(const Narrow& n)
 // same classification and the same cubic.
 TEST_P(PieceKernelsTargets, CellsMatchScalar)
 {
-  long cells = 0, visible = 0, mismatches = 0;
+  long cells = 0, visible = 0, mismatches = 0, crossed = 0, rootMismatches = 0;
   double cubic = 0.0;
   for (const Narrow& n : NarrowCases())
   {
@@ -432,6 +463,8 @@ TEST_P(PieceKernelsTargets, CellsMatchScalar)
     kernels.Visible = &visible;
     kernels.Mismatches = &mismatches;
     kernels.Cubic = &cubic;
+    kernels.Crossed = &crossed;
+    kernels.RootMismatches = &rootMismatches;
     for (unsigned i = 0; i < 40; ++i)
     {
       adversarial::Case shape;
@@ -449,9 +482,11 @@ TEST_P(PieceKernelsTargets, CellsMatchScalar)
   EXPECT_GT(visible, 1000);
   EXPECT_EQ(mismatches, 0);
   EXPECT_EQ(cubic, 0.0);
+  EXPECT_GT(crossed, 1000);
+  EXPECT_EQ(rootMismatches, 0);
   std::printf("%s: %ld cells (%ld visible), %ld classified differently, cubic within %.2g of the "
-              "corners' magnitude\n",
-    ae::PieceKernelsTarget(), cells, visible, mismatches, cubic);
+              "corners' magnitude; %ld knot crossings, %ld different\n",
+    ae::PieceKernelsTarget(), cells, visible, mismatches, cubic, crossed, rootMismatches);
 }
 
 // Whole rays through 8- and 16-bit volumes with every stage vectorised:

@@ -11,6 +11,7 @@
 #include "avos/engine/PieceKernels.h"
 
 #include <cstdint>
+#include <limits>
 
 HWY_BEFORE_NAMESPACE();
 namespace avos
@@ -135,6 +136,60 @@ void CellsOf(
   }
 }
 
+// numerics::detail::Crossing in every lane: the lanes that are done keep
+// their result while the others iterate.
+void CrossingsImpl(numerics::CrossingBatch<double>& b)
+{
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const int N = static_cast<int>(hn::Lanes(d));
+  const V k0 = hn::Set(d, b.S.K[0]), k1 = hn::Set(d, b.S.K[1]), k2 = hn::Set(d, b.S.K[2]),
+          k3 = hn::Set(d, b.S.K[3]);
+  const V zero = hn::Zero(d), half = hn::Set(d, 0.5), two = hn::Set(d, 2.0),
+          three = hn::Set(d, 3.0);
+  const V tiny = hn::Set(d, 4.0 * std::numeric_limits<double>::epsilon());
+  // Cubic::operator() and Cubic::Derivative, operation for operation.
+  auto s = [&](V u)
+  { return hn::Add(k0, hn::Mul(u, hn::Add(k1, hn::Mul(u, hn::Add(k2, hn::Mul(u, k3)))))); };
+  auto ds = [&](V u)
+  { return hn::Add(k1, hn::Mul(u, hn::Add(hn::Mul(two, k2), hn::Mul(hn::Mul(u, three), k3)))); };
+  for (int i = 0; i < b.Count; i += N)
+  {
+    // Lanes past Count solve a crossing of length 0.
+    const auto live = hn::FirstN(d, static_cast<std::size_t>(b.Count - i));
+    const V value = hn::IfThenElseZero(live, hn::LoadU(d, b.Value + i));
+    V lo = hn::IfThenElseZero(live, hn::LoadU(d, b.Lo + i));
+    V hi = hn::IfThenElseZero(live, hn::LoadU(d, b.Hi + i));
+    const V slo = s(lo), shi = s(hi);
+    const V sign = hn::IfThenElse(hn::Ge(shi, slo), hn::Set(d, 1.0), hn::Set(d, -1.0));
+    V u = hn::IfThenElse(hn::Ne(shi, slo),
+      hn::Add(lo, hn::Mul(hn::Sub(hi, lo), hn::Div(hn::Sub(value, slo), hn::Sub(shi, slo)))),
+      hn::Mul(half, hn::Add(lo, hi)));
+    u = hn::Min(hn::Max(u, lo), hi);
+    // Open lanes iterate; a lane that closes keeps its result in u.
+    auto open = hn::Lt(lo, hi);
+    for (int k = 0; k < 128 && !hn::AllFalse(d, open); ++k)
+    {
+      const V f = hn::Mul(sign, hn::Sub(s(u), value));
+      open = hn::AndNot(hn::Eq(f, zero), open);
+      const auto below = hn::Lt(f, zero);
+      lo = hn::IfThenElse(hn::And(open, below), u, lo);
+      hi = hn::IfThenElse(hn::AndNot(below, open), u, hi);
+      const V dv = hn::Mul(sign, ds(u));
+      const auto rising = hn::Gt(dv, zero);
+      const V newton = hn::Sub(u, hn::Div(f, hn::IfThenElse(rising, dv, hn::Set(d, 1.0))));
+      const auto inside = hn::And(rising, hn::And(hn::Gt(newton, lo), hn::Lt(newton, hi)));
+      const V next = hn::IfThenElse(inside, newton, hn::Mul(half, hn::Add(lo, hi)));
+      const auto done =
+        hn::Or(hn::Eq(next, u), hn::Le(hn::Sub(hi, lo), hn::Mul(tiny, hn::Abs(hi))));
+      u = hn::IfThenElse(open, next, u);
+      open = hn::AndNot(done, open);
+      open = hn::And(open, hn::Lt(lo, hi));
+    }
+    hn::StoreU(u, d, b.Root + i);
+  }
+}
+
 void CellsImpl(
   const Volume& v, const Tables& t, const double* origin, const double* direction, Cells& b)
 {
@@ -159,6 +214,12 @@ namespace avos
 namespace engine
 {
 HWY_EXPORT(CellsImpl);
+HWY_EXPORT(CrossingsImpl);
+
+void PieceKernels::Crossings(numerics::CrossingBatch<double>& batch) const
+{
+  HWY_DYNAMIC_DISPATCH(CrossingsImpl)(batch);
+}
 
 void PieceKernels::VectorisedCells(const Volume& scalars,
   const numerics::PiecewiseTransferFunction<double>::UnitTables& tables, const double* origin,

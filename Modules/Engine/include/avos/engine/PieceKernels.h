@@ -16,12 +16,16 @@
 //   given the volume's 8- or 16-bit scalars and the transfer function has
 //   its unit tables: the 8 corners gathered, their range classified from the
 //   tables, the cell's cubic; otherwise numerics::ScalarCellKernels.
+// - Crossings (numerics::CrossingBatch): the knot crossings of a cell, a
+//   crossing per lane, numerics::detail::Crossing's Newton steps and
+//   bisections in every lane until all lanes are done.
 // Bound against numerics::ScalarPieceKernels: the same formulas, rounded in
 // another order (fused multiply-adds); relative 1e-13 in the depth's
 // coefficients and the transmittance, and in J but where a rounding tips a
-// decision (a term more or less, within the piece's share of eps). Cells:
-// the same to the bit (the classification from integers; the cubic by the
-// same operations in the same order, without fused multiply-adds).
+// decision (a term more or less, within the piece's share of eps). Cells
+// and crossings: the same to the bit (the classification from integers; the
+// cubic and the iterations by the same operations in the same order,
+// without fused multiply-adds).
 // Modules/Engine/Testing checks it on every dispatch target.
 #ifndef avos_engine_PieceKernels_h
 #define avos_engine_PieceKernels_h
@@ -49,6 +53,7 @@ struct PieceKernels
 
   void Depths(numerics::PieceBatch<double>& batch) const;
   void Series(numerics::SeriesBatch<double>& batch) const;
+  void Crossings(numerics::CrossingBatch<double>& batch) const;
 
   template <typename VolumeT>
   void Cells(const VolumeT& volume, const numerics::PiecewiseTransferFunction<double>& tf,

@@ -697,11 +697,34 @@ struct CellBatch
   alignas(64) Real K[4][Capacity];
 };
 
-// The cells' stage of PieceWalk, a cell at a time (the reference the
-// engine's kernels are tested against).
+// Knot crossings of one cell's cubic S, in lanes: Root[i] is
+// detail::Crossing(S, Value[i], Lo[i], Hi[i]), the root of S - Value[i] on
+// the monotone stretch [Lo[i], Hi[i]] that brackets it.
+template <typename Real>
+struct CrossingBatch
+{
+  static constexpr int Capacity = CellBatch<Real>::Capacity;
+  int Count = 0;
+  Cubic<Real> S;
+  alignas(64) Real Value[Capacity];
+  alignas(64) Real Lo[Capacity];
+  alignas(64) Real Hi[Capacity];
+  alignas(64) Real Root[Capacity];
+};
+
+// The cells' stage of PieceWalk and its knot crossings, a cell (a crossing)
+// at a time: the reference the engine's kernels are tested against.
 template <typename Real>
 struct ScalarCellKernels
 {
+  void Crossings(CrossingBatch<Real>& b) const
+  {
+    for (int i = 0; i < b.Count; ++i)
+    {
+      b.Root[i] = detail::Crossing(b.S, b.Value[i], b.Lo[i], b.Hi[i]);
+    }
+  }
+
   template <typename VolumeT>
   void Cells(const VolumeT& volume, const PiecewiseTransferFunction<Real>& tf,
     const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction, CellBatch<Real>& b) const
@@ -754,6 +777,7 @@ struct ScalarCellKernels
 // kernels.Cells (ScalarCellKernels, or a vectorised one of the engine) in
 // batches of at most *cellLimit (when given; CellBatch::Capacity otherwise):
 // a stopped walk has done that stage for at most that many cells too many.
+// A cell's knot crossings, two or more, go through kernels.Crossings.
 // `cells` counts the visible cells. Returns false when stopped.
 template <typename Real, typename VolumeT, typename Visit,
   typename Kernels = ScalarCellKernels<Real>>
@@ -795,50 +819,115 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     Real bounds[4];
     int count = 0;
     bounds[count++] = Real(0);
-    Real roots[2];
-    const int r = detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, roots);
+    Real extrema[2];
+    const int r =
+      detail::QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, extrema);
     for (int i = 0; i < r; ++i)
     {
-      bounds[count++] = roots[i];
+      bounds[count++] = extrema[i];
     }
     bounds[count++] = length;
+    // Per stretch, the knots strictly inside its range (slo, shi), in the
+    // order the ray meets them: sub-piece j lies in the transfer-function
+    // piece rising ? k0 + j : k1 - j.
+    struct Stretch
+    {
+      Real A, B; // [ua, ub]
+      bool Rising;
+      std::size_t K0, K1, Inside;
+      std::size_t PieceAt(std::size_t j) const
+      {
+        return this->Rising ? this->K0 + j : this->K1 - j;
+      }
+    };
+    Stretch stretches[3];
     for (int b = 0; b + 1 < count; ++b)
     {
-      const Real ua = bounds[b], ub = bounds[b + 1];
-      const Real sa = s(ua), sb = s(ub);
-      const bool rising = sb >= sa;
-      const Real slo = std::min(sa, sb), shi = std::max(sa, sb);
-      // Knots strictly inside (slo, shi), in the order the ray meets them:
-      // the stretch's sub-piece j lies in the transfer-function piece
-      // rising ? k0 + j : k1 - j.
-      const std::size_t k0 = tf.Locate(slo);
-      const std::size_t k1 = tf.CountBelow(shi);
-      const std::size_t inside = k1 > k0 ? k1 - k0 : 0;
-      auto pieceAt = [&](std::size_t j) { return rising ? k0 + j : k1 - j; };
-      auto visibleAt = [&](std::size_t j) { return tf.IsVisible(pieceAt(j)); };
-      Real u = ua; // the start of sub-piece j, or a point before it when skipped
-      for (std::size_t j = 0; j <= inside; ++j)
+      Stretch& st = stretches[b];
+      st.A = bounds[b];
+      st.B = bounds[b + 1];
+      const Real sa = s(st.A), sb = s(st.B);
+      st.Rising = sb >= sa;
+      st.K0 = tf.Locate(std::min(sa, sb));
+      st.K1 = tf.CountBelow(std::max(sa, sb));
+      st.Inside = st.K1 > st.K0 ? st.K1 - st.K0 : 0;
+    }
+    // A knot between two transparent sub-pieces bounds nothing that is
+    // integrated: its crossing is not sought (on Foot's transfer function,
+    // two thirds of all crossings).
+    auto sought = [&](const Stretch& st, std::size_t j)
+    { return j < st.Inside && (tf.IsVisible(st.PieceAt(j)) || tf.IsVisible(st.PieceAt(j + 1))); };
+    auto value = [&](const Stretch& st, std::size_t j)
+    { return knots[st.Rising ? st.K0 + j : st.K1 - 1 - j]; };
+    // The crossings sought, each bracketed by its whole stretch (so that
+    // they are independent), through kernels.Crossings a batch at a time:
+    // the first MaximumSolved of the cell; any beyond are found below.
+    constexpr int MaximumSolved = 4 * CrossingBatch<Real>::Capacity;
+    Real solved[MaximumSolved];
+    int solvedCount = 0;
+    CrossingBatch<Real> crossing;
+    crossing.S = s;
+    for (int b = 0; b + 1 < count && solvedCount < MaximumSolved; ++b)
+    {
+      const Stretch& st = stretches[b];
+      for (std::size_t j = 0; j < st.Inside && solvedCount < MaximumSolved; ++j)
       {
-        // A knot between two transparent sub-pieces bounds nothing that is
-        // integrated: its crossing is not sought (on Foot's transfer
-        // function, two thirds of all crossings).
-        const bool visible = inside == 0 || visibleAt(j);
-        if (!visible && (j == inside || !visibleAt(j + 1)))
+        if (!sought(st, j))
+        {
+          continue;
+        }
+        const int at = crossing.Count++;
+        crossing.Value[at] = value(st, j);
+        crossing.Lo[at] = st.A;
+        crossing.Hi[at] = st.B;
+        if (crossing.Count == CrossingBatch<Real>::Capacity)
+        {
+          kernels.Crossings(crossing);
+          std::copy(crossing.Root, crossing.Root + crossing.Count, solved + solvedCount);
+          solvedCount += crossing.Count;
+          crossing.Count = 0;
+        }
+      }
+    }
+    if (crossing.Count == 1 && solvedCount == 0)
+    {
+      // One crossing: no lanes to fill (the same root, to the bit).
+      solved[solvedCount++] =
+        detail::Crossing(s, crossing.Value[0], crossing.Lo[0], crossing.Hi[0]);
+    }
+    else if (crossing.Count > 0)
+    {
+      kernels.Crossings(crossing);
+      std::copy(crossing.Root, crossing.Root + crossing.Count, solved + solvedCount);
+      solvedCount += crossing.Count;
+    }
+    int taken = 0;
+    for (int b = 0; b + 1 < count; ++b)
+    {
+      const Stretch& st = stretches[b];
+      const Real ub = st.B;
+      Real u = st.A; // the start of sub-piece j, or a point before it when skipped
+      for (std::size_t j = 0; j <= st.Inside; ++j)
+      {
+        const bool visible = st.Inside == 0 || tf.IsVisible(st.PieceAt(j));
+        if (!visible && !sought(st, j))
         {
           continue;
         }
         Real next = ub;
-        if (j < inside)
+        if (j < st.Inside)
         {
-          // [u, ub] brackets the crossing: u is at or before the knot before.
-          const Real value = knots[rising ? k0 + j : k1 - 1 - j];
-          next = std::min(std::max(detail::Crossing(s, value, u, ub), u), ub);
+          const Real root =
+            taken < solvedCount ? solved[taken] : detail::Crossing(s, value(st, j), st.A, ub);
+          ++taken;
+          // Rounding may put a root before the one of the knot before.
+          next = std::min(std::max(root, u), ub);
         }
         if (visible && next > u)
         {
           // The transfer-function piece from the scalar in the middle:
           // robust where a crossing rounds onto a knot.
-          const std::size_t piece = tf.LocateNear(s(Real(0.5) * (u + next)), pieceAt(j));
+          const std::size_t piece = tf.LocateNear(s(Real(0.5) * (u + next)), st.PieceAt(j));
           if (tf.IsVisible(piece) && !emit(u, next, piece, true))
           {
             return false;
