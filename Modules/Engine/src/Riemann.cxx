@@ -53,6 +53,30 @@ HWY_INLINE void Pair(
   }
 }
 
+#if HWY_TARGET != HWY_SCALAR
+// Pair k (0: opacity, 1 + c: colour c) of the lanes' pieces from
+// LinearPieces::Pairs, the value and its slope: one 64-bit gather per half
+// vector, half the elements two 32-bit gathers would fetch (the same
+// floats).
+template <class D, class VI>
+HWY_INLINE void PairOf(
+  D d, const float* pairs, VI piece, int k, hn::Vec<D>& value, hn::Vec<D>& slope)
+{
+  const hn::Half<hn::RebindToSigned<D>> dh;
+  const hn::Repartition<std::int64_t, D> d64;
+  const hn::RebindToUnsigned<decltype(d64)> du64;
+  const auto* words = reinterpret_cast<const std::uint64_t*>(pairs);
+  auto half = [&](hn::Vec<decltype(dh)> p)
+  {
+    const auto index = hn::Add(hn::ShiftLeft<2>(hn::PromoteTo(d64, p)), hn::Set(d64, k));
+    return hn::BitCast(d, hn::GatherIndex(du64, words, index));
+  };
+  const auto lo = half(hn::LowerHalf(dh, piece)), hi = half(hn::UpperHalf(dh, piece));
+  value = hn::ConcatEven(d, hi, lo);
+  slope = hn::ConcatOdd(d, hi, lo);
+}
+#endif
+
 // alpha_i and C_i of the samples at (px, py, pz), dt: one vector of lanes.
 template <Volume::Type Scalars, class D>
 HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn::Vec<D> px,
@@ -162,7 +186,25 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
     ? hn::Sub(s, start)
     : hn::Min(hn::Max(hn::Sub(s, field(tf.Start)), hn::Zero(d)), field(tf.Length));
   const LinearPieces& values = unit ? tf.Units : tf.Pieces;
-  const auto opacity = hn::MulAdd(field(values.OpacitySlope), dd, field(values.Opacity));
+  // Gathered tables with 8 lanes or more: a value and its slope at once.
+  auto linear = [&](int k, const std::vector<float>& value, const std::vector<float>& slope)
+  {
+#if HWY_TARGET != HWY_SCALAR
+    if constexpr (hn::MaxLanes(D()) >= 8)
+    {
+      if (!inRegisters)
+      {
+        hn::Vec<D> v, gradient;
+        PairOf(d, values.Pairs.data(), piece, k, v, gradient);
+        return hn::MulAdd(gradient, dd, v);
+      }
+    }
+#else
+    (void)k;
+#endif
+    return hn::MulAdd(field(slope), dd, field(value));
+  };
+  const auto opacity = linear(0, values.Opacity, values.OpacitySlope);
   auto tau = opacity;
   if (tf.Alpha)
   {
@@ -179,7 +221,7 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   float* out[3] = { r, g, b };
   for (int c = 0; c < 3; ++c)
   {
-    hn::Store(hn::MulAdd(field(values.ColourSlope[c]), dd, field(values.Colour[c])), d, out[c]);
+    hn::Store(linear(1 + c, values.Colour[c], values.ColourSlope[c]), d, out[c]);
   }
 }
 
@@ -359,7 +401,7 @@ void LinearPieces::Clear()
 {
   for (std::vector<float>* v :
     { &this->Opacity, &this->OpacitySlope, &this->Colour[0], &this->Colour[1], &this->Colour[2],
-      &this->ColourSlope[0], &this->ColourSlope[1], &this->ColourSlope[2] })
+      &this->ColourSlope[0], &this->ColourSlope[1], &this->ColourSlope[2], &this->Pairs })
   {
     v->clear();
   }
@@ -370,10 +412,14 @@ void LinearPieces::Add(
 {
   this->Opacity.push_back(float(opacity));
   this->OpacitySlope.push_back(float(opacitySlope));
+  this->Pairs.push_back(float(opacity));
+  this->Pairs.push_back(float(opacitySlope));
   for (int c = 0; c < 3; ++c)
   {
     this->Colour[c].push_back(float(colour[c]));
     this->ColourSlope[c].push_back(float(colourSlope[c]));
+    this->Pairs.push_back(float(colour[c]));
+    this->Pairs.push_back(float(colourSlope[c]));
   }
 }
 
@@ -385,6 +431,7 @@ void LinearPieces::Pad(std::size_t size)
   {
     v->resize(std::max(v->size(), size), 0.0f);
   }
+  this->Pairs.resize(std::max(this->Pairs.size(), 8 * size), 0.0f);
 }
 
 std::string TransferTable::Build(const numerics::TransferFunction<double>& tf)

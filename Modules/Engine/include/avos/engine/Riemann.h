@@ -64,6 +64,10 @@ struct Volume
 struct LinearPieces
 {
   std::vector<float> Opacity, OpacitySlope, Colour[3], ColourSlope[3];
+  // The same, interleaved per piece (Opacity, OpacitySlope, Colour[0],
+  // ColourSlope[0], ...: 8 floats), so that one 64-bit gather fetches a
+  // value and its slope.
+  std::vector<float> Pairs;
 
   void Clear();
   void Add(
