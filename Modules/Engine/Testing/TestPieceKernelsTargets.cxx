@@ -544,5 +544,34 @@ TEST_P(PieceKernelsTargets, NarrowRaysMatchScalarAndHoldTolerance)
     ae::PieceKernelsTarget(), rays, worstScalar, worstReference);
 }
 
+// Kernels given another volume's scalars (other dimensions) leave the cells
+// to the scalar stage: the same rays as kernels given none, to the bit.
+TEST_P(PieceKernelsTargets, CellsOfAnotherVolumeAreNotRead)
+{
+  const Narrow n = NarrowCases().front();
+  ae::Volume other = n.Engine();
+  other.Dimensions[0] -= 1; // other strides: other corners
+  ASSERT_NE(ae::PieceKernels(&other).Scalars, nullptr);
+  an::PiecewiseTransferFunction<double> tf;
+  ASSERT_EQ(tf.Build(n.TF, an::PiecewiseRelativeError(1e-3)), "");
+  adversarial::Case shape;
+  std::copy(n.Dimensions, n.Dimensions + 3, shape.Dimensions);
+  const auto volume = WalkVolume<std::uint8_t>(n);
+  for (unsigned i = 0; i < 20; ++i)
+  {
+    const adversarial::Ray ray = adversarial::MakeRay(shape, i);
+    const an::Interval<double> whole{ 0.0, ray.Length };
+    const auto given = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf,
+      1e-3, true, nullptr, ae::PieceKernels(&other));
+    const auto none = an::IntegratePiecewise(
+      volume, ray.Origin, ray.Direction, &whole, 1, tf, 1e-3, true, nullptr, ae::PieceKernels());
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      EXPECT_EQ(given.RGBA[ch], none.RGBA[ch]);
+    }
+    EXPECT_EQ(given.Statistics.Pieces, none.Statistics.Pieces);
+  }
+}
+
 AVOS_ENGINE_TARGETS(PieceKernelsTargets);
 } // namespace
