@@ -262,6 +262,31 @@ TEST_P(PieceKernelsTargets, EdgeLanes)
   EXPECT_EQ(s.Settled[1], 0.0);
 }
 
+// One ray integrated with the scalar kernels, with `kernels` and with the
+// exact reference: the same pieces as the scalar kernels, and the largest
+// channel differences so far.
+template <typename VolumeT>
+void CompareRay(const VolumeT& volume, const adversarial::Ray& ray,
+  const an::PiecewiseTransferFunction<double>& tf,
+  const an::PiecewiseTransferFunction<double>& exact, double eps, const ae::PieceKernels& kernels,
+  double& worstScalar, double& worstReference)
+{
+  const an::Interval<double> whole{ 0.0, ray.Length };
+  const auto scalar = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps);
+  const auto vectorised = an::IntegratePiecewise(
+    volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, nullptr, kernels);
+  const auto reference = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, exact,
+    an::PiecewiseReferenceTolerance<double>(), false);
+  ASSERT_EQ(vectorised.Error, "");
+  EXPECT_EQ(vectorised.Statistics.Pieces, scalar.Statistics.Pieces);
+  EXPECT_EQ(vectorised.Statistics.Cells, scalar.Statistics.Cells);
+  for (int ch = 0; ch < 4; ++ch)
+  {
+    worstScalar = std::max(worstScalar, std::abs(vectorised.RGBA[ch] - scalar.RGBA[ch]));
+    worstReference = std::max(worstReference, std::abs(vectorised.RGBA[ch] - reference.RGBA[ch]));
+  }
+}
+
 // Whole rays: the vectorised kernels give the scalar ones' colours within
 // 1e-10 (the rounding above, spread over a ray), the same pieces, and stay
 // within eps of the exact reference.
@@ -279,22 +304,8 @@ TEST_P(PieceKernelsTargets, RaysMatchScalarAndHoldTolerance)
     const an::TrilinearVolume<double, double> volume(c.Data.data(), c.Dimensions);
     for (unsigned i = 0; i < 60; ++i)
     {
-      const adversarial::Ray ray = adversarial::MakeRay(c, i);
-      const an::Interval<double> whole{ 0.0, ray.Length };
-      const auto scalar =
-        an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps);
-      const auto vectorised = an::IntegratePiecewise(
-        volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, true, nullptr, ae::PieceKernels());
-      const auto reference = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
-        exact, an::PiecewiseReferenceTolerance<double>(), false);
-      ASSERT_EQ(vectorised.Error, "");
-      EXPECT_EQ(vectorised.Statistics.Pieces, scalar.Statistics.Pieces);
-      for (int ch = 0; ch < 4; ++ch)
-      {
-        worstScalar = std::max(worstScalar, std::abs(vectorised.RGBA[ch] - scalar.RGBA[ch]));
-        worstReference =
-          std::max(worstReference, std::abs(vectorised.RGBA[ch] - reference.RGBA[ch]));
-      }
+      CompareRay(volume, adversarial::MakeRay(c, i), tf, exact, eps, ae::PieceKernels(),
+        worstScalar, worstReference);
       ++rays;
     }
   }
@@ -508,31 +519,15 @@ TEST_P(PieceKernelsTargets, NarrowRaysMatchScalarAndHoldTolerance)
     for (unsigned i = 0; i < 40; ++i)
     {
       const adversarial::Ray ray = adversarial::MakeRay(shape, i);
-      const an::Interval<double> whole{ 0.0, ray.Length };
-      auto run = [&](const auto& volume)
-      {
-        const auto scalar =
-          an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1, tf, eps);
-        const auto vectorised = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
-          tf, eps, true, nullptr, ae::PieceKernels(&engine));
-        const auto reference = an::IntegratePiecewise(volume, ray.Origin, ray.Direction, &whole, 1,
-          exact, an::PiecewiseReferenceTolerance<double>(), false);
-        ASSERT_EQ(vectorised.Error, "");
-        EXPECT_EQ(vectorised.Statistics.Cells, scalar.Statistics.Cells);
-        for (int ch = 0; ch < 4; ++ch)
-        {
-          worstScalar = std::max(worstScalar, std::abs(vectorised.RGBA[ch] - scalar.RGBA[ch]));
-          worstReference =
-            std::max(worstReference, std::abs(vectorised.RGBA[ch] - reference.RGBA[ch]));
-        }
-      };
       if (n.Sixteen)
       {
-        run(WalkVolume<std::uint16_t>(n));
+        CompareRay(WalkVolume<std::uint16_t>(n), ray, tf, exact, eps, ae::PieceKernels(&engine),
+          worstScalar, worstReference);
       }
       else
       {
-        run(WalkVolume<std::uint8_t>(n));
+        CompareRay(WalkVolume<std::uint8_t>(n), ray, tf, exact, eps, ae::PieceKernels(&engine),
+          worstScalar, worstReference);
       }
       ++rays;
     }
