@@ -748,6 +748,10 @@ struct ScalarCellKernels
       {
         continue;
       }
+      // Inside the cell the scalar stays in [lo, hi]. With no knot strictly
+      // inside, the whole cell lies in one transfer-function piece (a corner
+      // value on a knot is met at isolated points only): no crossing to
+      // find, and nothing to do at all when that piece is transparent.
       const auto range = tf.ClassifyRange(lo, hi);
       if (!range.Visible)
       {
@@ -867,6 +871,21 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     int solvedCount = 0;
     CrossingBatch<Real> crossing;
     crossing.S = s;
+    auto solve = [&]()
+    {
+      if (crossing.Count == 1)
+      {
+        // One crossing: no lanes to fill (the same root, to the bit).
+        crossing.Root[0] = detail::Crossing(s, crossing.Value[0], crossing.Lo[0], crossing.Hi[0]);
+      }
+      else
+      {
+        kernels.Crossings(crossing);
+      }
+      std::copy(crossing.Root, crossing.Root + crossing.Count, solved + solvedCount);
+      solvedCount += crossing.Count;
+      crossing.Count = 0;
+    };
     for (int b = 0; b + 1 < count && solvedCount < MaximumSolved; ++b)
     {
       const Stretch& st = stretches[b];
@@ -882,24 +901,13 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
         crossing.Hi[at] = st.B;
         if (crossing.Count == CrossingBatch<Real>::Capacity)
         {
-          kernels.Crossings(crossing);
-          std::copy(crossing.Root, crossing.Root + crossing.Count, solved + solvedCount);
-          solvedCount += crossing.Count;
-          crossing.Count = 0;
+          solve();
         }
       }
     }
-    if (crossing.Count == 1 && solvedCount == 0)
+    if (crossing.Count > 0)
     {
-      // One crossing: no lanes to fill (the same root, to the bit).
-      solved[solvedCount++] =
-        detail::Crossing(s, crossing.Value[0], crossing.Lo[0], crossing.Hi[0]);
-    }
-    else if (crossing.Count > 0)
-    {
-      kernels.Crossings(crossing);
-      std::copy(crossing.Root, crossing.Root + crossing.Count, solved + solvedCount);
-      solvedCount += crossing.Count;
+      solve();
     }
     int taken = 0;
     for (int b = 0; b + 1 < count; ++b)
