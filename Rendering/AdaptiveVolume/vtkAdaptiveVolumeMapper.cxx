@@ -134,9 +134,9 @@ struct Method
   // RIEMANN (null: the scalar sum).
   const avos::engine::Volume* EngineVolume = nullptr;
   const avos::engine::TransferTable* EngineTable = nullptr;
-  // The same copy of 8- and 16-bit scalars for PIECEWISE_ADAPTIVE's cells
-  // (null: the scalar walk).
-  const avos::engine::Volume* CellScalars = nullptr;
+  // PIECEWISE_ADAPTIVE's kernels, given the same copy where the scalars are
+  // 8- or 16-bit (else its cells take the scalar walk).
+  avos::engine::PieceKernels Kernels;
   // Gradient shading of the emission (null: none), with the grid-to-world
   // matrix's linear part (ray directions to world) and the normal matrix
   // (grid gradients to world).
@@ -427,8 +427,7 @@ void IntegrateRay(const an::TrilinearVolume<double, Storage>& volume, const Fram
     case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
       // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-        *method.Pieces, method.Adaptive.Tolerance, true, steps,
-        avos::engine::PieceKernels(method.CellScalars));
+        *method.Pieces, method.Adaptive.Tolerance, true, steps, method.Kernels);
       break;
     default:
       result = WithField(volume, method, origin, direction,
@@ -1111,7 +1110,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.Pieces = piecewise ? &internals.Pieces : nullptr;
     method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
-    method.CellScalars = cellEngine ? engineScalars : nullptr;
+    method.Kernels = avos::engine::PieceKernels(cellEngine ? engineScalars : nullptr);
     if (shade)
     {
       method.Shading = &internals.Shading;

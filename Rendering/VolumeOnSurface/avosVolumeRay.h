@@ -187,6 +187,7 @@ public:
   VolumeRay(const VolumeRaySetup& setup, const Storage* data)
     : Setup(setup)
     , Volume(data, setup.Dimensions)
+    , Kernels(setup.Engine)
   {
   }
 
@@ -332,7 +333,7 @@ private:
       // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = avos::numerics::IntegratePiecewise(this->Volume, origin, back, segments.data(),
         segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, nullptr,
-        avos::engine::PieceKernels(this->Setup.Engine));
+        this->Kernels);
       return;
     }
     if (this->Setup.Engine)
@@ -355,6 +356,8 @@ private:
 
   const VolumeRaySetup& Setup;
   const avos::numerics::TrilinearVolume<double, Storage> Volume;
+  // Piecewise: the cells from Setup.Engine where it holds the scalars.
+  const avos::engine::PieceKernels Kernels;
 };
 
 // The rays of one execution that could not be integrated, counted across

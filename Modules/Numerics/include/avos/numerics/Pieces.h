@@ -695,6 +695,12 @@ struct CellBatch
   alignas(64) std::int32_t First[Capacity];
   alignas(64) std::int32_t Crossings[Capacity];
   alignas(64) Real K[4][Capacity];
+
+  // The cubic of the cell in lane i.
+  Cubic<Real> CubicAt(int i) const
+  {
+    return { { this->K[0][i], this->K[1][i], this->K[2][i], this->K[3][i] } };
+  }
 };
 
 // Knot crossings of one cell's cubic S, in lanes: Root[i] is
@@ -799,8 +805,7 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     ++cells;
     // The cubic in u = t - t (cell entry).
     const Real t = batch.Begin[lane];
-    const Cubic<Real> s{ { batch.K[0][lane], batch.K[1][lane], batch.K[2][lane],
-      batch.K[3][lane] } };
+    const Cubic<Real> s = batch.CubicAt(lane);
     const Real length = batch.End[lane] - t;
     auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
     {
