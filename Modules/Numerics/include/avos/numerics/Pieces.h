@@ -807,12 +807,13 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     const Real t = batch.Begin[lane];
     const Cubic<Real> s = batch.CubicAt(lane);
     const Real length = batch.End[lane] - t;
-    auto emit = [&](Real u, Real next, std::size_t piece, bool monotone)
+    // The piece [u, next] of the cell, q = s shifted to u.
+    auto emit = [&](Real u, Real next, const Cubic<Real>& q, std::size_t piece, bool monotone)
     {
       RayPiece<Real> rp;
       rp.Begin = t + u;
       rp.Length = next - u;
-      rp.Q = s.Shifted(u);
+      rp.Q = q;
       rp.Q.K[0] -= tf[piece].Start;
       rp.TF = piece;
       rp.Monotone = monotone;
@@ -822,7 +823,7 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     {
       // One piece for the cell; whether s is monotone on it only matters
       // to the integrator's cheapest bound, which tests it (not split).
-      return emit(Real(0), length, first, false);
+      return emit(Real(0), length, s, first, false);
     }
     // Monotone stretches: split at the extrema inside the cell.
     Real bounds[4];
@@ -941,7 +942,7 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
           // The transfer-function piece from the scalar in the middle:
           // robust where a crossing rounds onto a knot.
           const std::size_t piece = tf.LocateNear(s(Real(0.5) * (u + next)), st.PieceAt(j));
-          if (tf.IsVisible(piece) && !emit(u, next, piece, true))
+          if (tf.IsVisible(piece) && !emit(u, next, s.Shifted(u), piece, true))
           {
             return false;
           }
