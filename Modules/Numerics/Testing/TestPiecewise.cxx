@@ -634,6 +634,55 @@ TEST(Piecewise, ClassifyRangeEqualsItsDefinition)
   }
 }
 
+// NextVisible and PreviousVisibleEnd (PieceWalk passes transparent runs
+// with them) answer what IsVisible says, at every piece, on functions whose
+// knots are transparent with probability 0.6 (runs of them, some at the
+// ends), in both opacity models.
+TEST(Piecewise, VisibleNeighboursEqualTheirDefinition)
+{
+  for (unsigned seed = 0; seed < 16; ++seed)
+  {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    an::TransferFunction<double> tf;
+    for (int k = 0; k < 40; ++k)
+    {
+      const double s = 6.0 * k + 3.0 * u(rng);
+      tf.AddOpacityKnot(s, u(rng) < 0.6 ? 0.0 : u(rng));
+      tf.AddColorKnot(s, u(rng), u(rng), u(rng));
+    }
+    if (seed % 2 == 1)
+    {
+      tf.SetOpacityModel(an::OpacityModel::Alpha, 1.0);
+    }
+    tf.Finalize();
+    an::PiecewiseTransferFunction<double> p;
+    ASSERT_EQ(p.Build(tf, 1e-3), "");
+    const std::size_t n = p.GetNumberOfPieces();
+    std::size_t transparent = 0;
+    for (std::size_t i = 0; i <= n; ++i)
+    {
+      std::size_t next = i;
+      while (next < n && !p.IsVisible(next))
+      {
+        ++next;
+      }
+      ASSERT_EQ(p.NextVisible(i), next) << "seed " << seed << " piece " << i;
+      if (i < n)
+      {
+        std::size_t end = i + 1;
+        while (end > 0 && !p.IsVisible(end - 1))
+        {
+          --end;
+        }
+        ASSERT_EQ(p.PreviousVisibleEnd(i), end) << "seed " << seed << " piece " << i;
+        transparent += p.IsVisible(i) ? 0 : 1;
+      }
+    }
+    EXPECT_GE(transparent, 5u) << "seed " << seed;
+  }
+}
+
 // Locate's bucket grid answers exactly what std::upper_bound does, and
 // CountBelow what std::lower_bound does, on knots with clusters and jumps,
 // at the knots themselves and next to them.

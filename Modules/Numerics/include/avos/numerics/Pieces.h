@@ -90,6 +90,8 @@ public:
     this->Locator.Clear();
     this->Pieces.clear();
     this->VisibleBefore.clear();
+    this->NextVisiblePiece.clear();
+    this->PreviousVisiblePiece.clear();
     std::vector<Real> knots;
     std::string error = tf.Validate();
     if (!error.empty())
@@ -185,6 +187,18 @@ public:
       const bool visible = p.Tau > Real(0) || end > Real(0);
       this->VisibleBefore.push_back(this->VisibleBefore.back() + (visible ? 1u : 0u));
     }
+    const std::size_t n = this->Pieces.size();
+    this->NextVisiblePiece.assign(n + 1, n);
+    this->PreviousVisiblePiece.assign(n, 0);
+    for (std::size_t i = n; i-- > 0;)
+    {
+      this->NextVisiblePiece[i] = this->IsVisible(i) ? i : this->NextVisiblePiece[i + 1];
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      this->PreviousVisiblePiece[i] =
+        this->IsVisible(i) ? i + 1 : (i > 0 ? this->PreviousVisiblePiece[i - 1] : 0);
+    }
     this->MaximumColor = tf.GetMaximumColor();
     this->Locator.Build(std::move(knots));
     this->BuildUnitCounts();
@@ -231,6 +245,12 @@ public:
   {
     return this->VisibleBefore[i + 1] > this->VisibleBefore[i];
   }
+
+  // The first visible piece from piece i on, i <= GetNumberOfPieces()
+  // (GetNumberOfPieces() when none), and one more than the last visible
+  // piece up to piece i, i < GetNumberOfPieces() (0 when none).
+  std::size_t NextVisible(std::size_t i) const { return this->NextVisiblePiece[i]; }
+  std::size_t PreviousVisibleEnd(std::size_t i) const { return this->PreviousVisiblePiece[i]; }
 
   // What a cell whose scalar stays within [lo, hi] (its corners' range, lo
   // <= hi, both finite) holds.
@@ -439,6 +459,7 @@ private:
   KnotLocator<Real> Locator; // the knots between the pieces
   std::vector<Piece> Pieces;
   std::vector<std::uint32_t> VisibleBefore; // pieces < 2^32 (MaximumKnots)
+  std::vector<std::size_t> NextVisiblePiece, PreviousVisiblePiece;
   Real UnitBase = Real(0);
   std::vector<std::uint32_t> UnitUpper, UnitBelow;
   Real MaximumColor = Real(0);
@@ -881,9 +902,41 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
     // A knot between two transparent sub-pieces bounds nothing that is
     // integrated: its crossing is not sought (on Foot's transfer function,
-    // two thirds of all crossings).
-    auto sought = [&](const Stretch& st, std::size_t j)
-    { return j < st.Inside && (tf.IsVisible(st.PieceAt(j)) || tf.IsVisible(st.PieceAt(j + 1))); };
+    // two thirds of all crossings). The sub-pieces that matter are the
+    // visible ones and those ending at a sought crossing (whose next is
+    // visible); useful(st, j) is the first of them from j on (st.Inside + 1
+    // when none), found through the transfer function's next or previous
+    // visible piece, so that a transparent run is passed over at once.
+    // With no knot inside, the stretch is one sub-piece, always taken.
+    auto useful = [&](const Stretch& st, std::size_t j) -> std::size_t
+    {
+      if (st.Inside == 0)
+      {
+        return j;
+      }
+      if (j > st.Inside)
+      {
+        return st.Inside + 1;
+      }
+      if (st.Rising)
+      {
+        // Pieces K0 + j, ascending.
+        const std::size_t p = tf.NextVisible(st.K0 + j);
+        if (p > st.K1)
+        {
+          return st.Inside + 1;
+        }
+        return p - st.K0 > j ? p - st.K0 - 1 : j;
+      }
+      // Pieces K1 - j, descending.
+      const std::size_t end = tf.PreviousVisibleEnd(st.K1 - j);
+      if (end <= st.K0)
+      {
+        return st.Inside + 1;
+      }
+      const std::size_t p = end - 1;
+      return st.K1 - p > j ? st.K1 - p - 1 : j;
+    };
     auto value = [&](const Stretch& st, std::size_t j)
     { return knots[st.Rising ? st.K0 + j : st.K1 - 1 - j]; };
     // The crossings sought, each bracketed by its whole stretch (so that
@@ -912,12 +965,9 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     for (int b = 0; b + 1 < count && solvedCount < MaximumSolved; ++b)
     {
       const Stretch& st = stretches[b];
-      for (std::size_t j = 0; j < st.Inside && solvedCount < MaximumSolved; ++j)
+      for (std::size_t j = useful(st, 0); j < st.Inside && solvedCount < MaximumSolved;
+           j = useful(st, j + 1))
       {
-        if (!sought(st, j))
-        {
-          continue;
-        }
         const int at = crossing.Count++;
         crossing.Value[at] = value(st, j);
         crossing.Lo[at] = st.A;
@@ -938,13 +988,9 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
       const Stretch& st = stretches[b];
       const Real ub = st.B;
       Real u = st.A; // the start of sub-piece j, or a point before it when skipped
-      for (std::size_t j = 0; j <= st.Inside; ++j)
+      for (std::size_t j = useful(st, 0); j <= st.Inside; j = useful(st, j + 1))
       {
         const bool visible = st.Inside == 0 || tf.IsVisible(st.PieceAt(j));
-        if (!visible && !sought(st, j))
-        {
-          continue;
-        }
         Real next = ub;
         if (j < st.Inside)
         {
