@@ -46,6 +46,8 @@ METHODS = [
     ("piecewise eps 0.001", ["--method", "piecewise", "--tolerance", "0.001"]),
     ("coupled eps 0.01", ["--method", "coupled", "--tolerance", "0.01"]),
     ("coupled eps 0.001", ["--method", "coupled", "--tolerance", "0.001"]),
+    ("decoupled eps 0.01", ["--method", "decoupled", "--tolerance", "0.01"]),
+    ("decoupled eps 0.001", ["--method", "decoupled", "--tolerance", "0.001"]),
 ]
 REFERENCE = ["--method", "piecewise", "--tolerance", "1e-5"]
 
@@ -141,7 +143,7 @@ def plot(rows, path):
     chart.SetTitle("Bonsai 800x600, default view: time against error (max |error|, worst channel)")
     view.GetScene().AddItem(chart)
     colors = {"vtk": (200, 40, 40), "riemann": (40, 40, 200), "piecewise": (30, 150, 30),
-              "coupled": (150, 100, 20)}
+              "coupled": (150, 100, 20), "decoupled": (130, 40, 160)}
     for family, color in colors.items():
         selected = [r for r in rows if r["dataset"] == "Bonsai" and r["view"] == "default" and
                     r["size"] == "800x600" and r["threads"] == 2 and r["method"].startswith(family)]
@@ -235,7 +237,7 @@ def main():
                r["threads"] == 2 and r["method"] == method]
         growth.append("%s against pixels (400x300 .. 1600x1200): %.2f" % (method, slope(pts)))
     # 1/eps: the adaptive methods at eps 0.01 and 0.001, every dataset and view.
-    for family in ("piecewise", "coupled"):
+    for family in ("piecewise", "coupled", "decoupled"):
         values = []
         for name in DATASETS:
             for view in VIEWS:
