@@ -1,7 +1,8 @@
 """scripts/bench-engine.py --quick end to end (Bonsai, 400x300, two frames):
 the runs, the report and the JSON rows exist and hold what the methods
-promise, not timings (CI cannot pin those): the fixed-point mapper's ratio
-to itself is 1; every one of our methods reports rays and samples; the
+promise, not timings (CI cannot pin those): the fixed-point mapper, Riemann,
+and the piecewise, coupled and decoupled methods at eps 0.01 and 0.001 are
+all measured; the fixed-point mapper's ratio to itself is 1; every one of our methods reports rays and samples; the
 piecewise method at eps 0.001 leaves no pixel more than 1e-3 off the
 reference and its largest error is within eps; Riemann's error is larger
 than the piecewise method's.
@@ -34,7 +35,10 @@ def check(ok, what):
 check(result.returncode == 0, "the script runs: " + result.stdout + result.stderr)
 rows = json.load(open(os.path.join(SCRATCH, "results.json"))) if result.returncode == 0 else []
 by = {r["method"]: r for r in rows}
-check(len(rows) == 6, "six methods measured")
+methods = ["vtk-fixed-point h 0.5", "riemann h 0.5"] + [
+    "%s eps %s" % (m, e) for m in ("piecewise", "coupled", "decoupled") for e in ("0.01", "0.001")]
+check(sorted(by) == sorted(methods) and len(rows) == len(methods),
+      "the eight methods measured: %r" % sorted(by))
 check(os.path.exists(os.path.join(SCRATCH, "report.md")), "the report is written")
 if rows:
     check(by["vtk-fixed-point h 0.5"]["ratio"] == 1.0, "the baseline's ratio is 1")
