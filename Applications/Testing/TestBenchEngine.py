@@ -2,10 +2,10 @@
 the runs, the report and the JSON rows exist and hold what the methods
 promise, not timings (CI cannot pin those): the fixed-point mapper, Riemann,
 and the piecewise, coupled and decoupled methods at eps 0.01 and 0.001 are
-all measured; the fixed-point mapper's ratio to itself is 1; every one of our methods reports rays and samples; the
-piecewise method at eps 0.001 leaves no pixel more than 1e-3 off the
-reference and its largest error is within eps; Riemann's error is larger
-than the piecewise method's.
+all measured; the fixed-point mapper's ratio to itself is 1; every one of
+our methods reports rays and samples; the piecewise method at eps 0.001
+leaves no pixel more than 1e-3 off the reference and its largest error is
+within eps; Riemann's error is larger than the piecewise method's.
 
     python3 TestBenchEngine.py BENCH_SCRIPT AVOS_RENDER SHARED_DATA_DIR SCRATCH_DIR
 """
