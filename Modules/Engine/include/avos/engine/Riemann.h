@@ -40,10 +40,11 @@ namespace engine
 {
 
 // A scalar volume, x fastest, at most 2^31 - 1 points (32-bit gather
-// indices; 2^30 of 16-bit scalars, gathered by byte offset). 8- and 16-bit scalars are read as they
-// are (one 32-bit gather fetches a corner and its x neighbour: half the gathers of float, and a
-// quarter or half the memory); they need Padding readable bytes after the
-// last point. Any other type is converted to float by the caller.
+// indices; 2^30 of 16-bit scalars, gathered by byte offset). 8- and 16-bit
+// scalars are read as they are (one 32-bit gather fetches a corner and its x
+// neighbour: half the gathers of float, and a quarter or half the memory);
+// they need Padding readable bytes after the last point. Any other type is
+// converted to float by the caller.
 struct Volume
 {
   enum class Type
