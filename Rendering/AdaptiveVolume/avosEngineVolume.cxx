@@ -7,6 +7,14 @@
 
 namespace avos
 {
+avos::engine::Volume::Type EngineVolume::StoredType(int vtkScalarType)
+{
+  using Type = avos::engine::Volume::Type;
+  return vtkScalarType == VTK_UNSIGNED_CHAR
+    ? Type::UInt8
+    : (vtkScalarType == VTK_UNSIGNED_SHORT ? Type::UInt16 : Type::Float32);
+}
+
 const avos::engine::Volume* EngineVolume::Update(vtkDataArray* scalars, const int dimensions[3])
 {
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
@@ -17,9 +25,7 @@ const avos::engine::Volume* EngineVolume::Update(vtkDataArray* scalars, const in
   }
   using Type = avos::engine::Volume::Type;
   const int type = scalars->GetDataType();
-  const Type kept = type == VTK_UNSIGNED_CHAR
-    ? Type::UInt8
-    : (type == VTK_UNSIGNED_SHORT ? Type::UInt16 : Type::Float32);
+  const Type kept = StoredType(type);
   const std::size_t bytes = kept == Type::UInt8 ? 1 : (kept == Type::UInt16 ? 2 : 4);
   const vtkIdType count = scalars->GetNumberOfTuples();
   std::copy(dimensions, dimensions + 3, this->View.Dimensions);

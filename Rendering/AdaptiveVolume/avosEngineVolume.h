@@ -27,6 +27,10 @@ public:
   /// caller then takes the scalar path.
   const avos::engine::Volume* Update(vtkDataArray* scalars, const int dimensions[3]);
 
+  /// How scalars of a VTK type are kept: UInt8 and UInt16 as they are (the
+  /// piecewise method's cells kernel reads only those), Float32 for the rest.
+  static avos::engine::Volume::Type StoredType(int vtkScalarType);
+
 private:
   std::vector<unsigned char> Data;
   avos::engine::Volume View;

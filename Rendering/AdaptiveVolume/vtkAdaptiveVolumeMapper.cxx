@@ -948,10 +948,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // alone for the piecewise method's cells where they are 8- or 16-bit (no
   // float copy: the cells' kernel does not take it).
   // (Shaded sums take the scalar path: the kernels do not shade.)
-  const int scalarType = scalars->GetDataType();
   const bool riemannEngine = this->IntegrationMethod == RIEMANN && !shade;
   const bool cellEngine = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
-    (scalarType == VTK_UNSIGNED_CHAR || scalarType == VTK_UNSIGNED_SHORT);
+    avos::EngineVolume::StoredType(scalars->GetDataType()) != avos::engine::Volume::Type::Float32;
   const avos::engine::Volume* engineScalars =
     riemannEngine || cellEngine ? internals.EngineScalars.Update(scalars, dims) : nullptr;
   const avos::engine::Volume* engine = riemannEngine ? engineScalars : nullptr;

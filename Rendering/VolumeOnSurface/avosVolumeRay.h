@@ -174,10 +174,10 @@ struct VolumeRaySetup
 // 8- or 16-bit (the cells' kernel takes no float copy).
 inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
 {
-  const int type = setup.Scalars ? setup.Scalars->GetDataType() : VTK_VOID;
   return setup.Method == RayIntegration::Levoy ||
-    (setup.Method == RayIntegration::Piecewise &&
-      (type == VTK_UNSIGNED_CHAR || type == VTK_UNSIGNED_SHORT));
+    (setup.Method == RayIntegration::Piecewise && setup.Scalars &&
+      EngineVolume::StoredType(setup.Scalars->GetDataType()) !=
+        avos::engine::Volume::Type::Float32);
 }
 
 template <typename Storage>
