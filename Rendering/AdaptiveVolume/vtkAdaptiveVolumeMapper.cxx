@@ -72,6 +72,11 @@ struct RayBuffers
   std::array<double, 3 * TileSize> RowOrigins, RowDirections;
   std::array<double, TileSize> RowLengths;
   std::array<Segments, TileSize> RowSegments;
+  // A tile's rays for the Riemann kernel's lanes.
+  std::array<Segments, TileSize * TileSize> TileSegments;
+  std::array<avos::engine::RiemannRay, TileSize * TileSize> TileRays;
+  std::array<avos::engine::RayOutput, TileSize * TileSize> TileOutputs;
+  std::array<int, TileSize * TileSize> TileX, TileY;
 };
 // Widening of the empty-space segments, in voxel units: far above rounding,
 // far below any step.
@@ -480,6 +485,8 @@ public:
     , Monitor(monitor)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
+    this->RaysPerLane = method.Kind == vtkAdaptiveVolumeMapper::RIEMANN && method.EngineVolume &&
+      method.Blend == vtkVolumeMapper::COMPOSITE_BLEND && geometry.Clip.IsEmpty();
   }
 
   // Tiles [begin, end) in row-major order over the cast rectangle. Once the
@@ -493,9 +500,17 @@ public:
     {
       const int x0 = rect[0] + static_cast<int>(tile % this->TilesX) * TileSize;
       const int y0 = rect[2] + static_cast<int>(tile / this->TilesX) * TileSize;
-      for (int y = y0; y < std::min(y0 + TileSize, rect[3]); ++y)
+      if (this->RaysPerLane)
       {
-        this->CastRow(x0, std::min(x0 + TileSize, rect[1]), y, stats, buffers);
+        this->CastTile(x0, std::min(x0 + TileSize, rect[1]), y0, std::min(y0 + TileSize, rect[3]),
+          stats, buffers);
+      }
+      else
+      {
+        for (int y = y0; y < std::min(y0 + TileSize, rect[3]); ++y)
+        {
+          this->CastRow(x0, std::min(x0 + TileSize, rect[1]), y, stats, buffers);
+        }
       }
       this->Monitor.Finished(1);
     }
@@ -524,6 +539,57 @@ private:
         glm::dvec3(o[0], o[1], o[2]), glm::dvec3(d[0], d[1], d[2]), buffers.RowLengths[i], buffers,
         result);
       this->Store(buffers.RowX[i], y, result, stats);
+    }
+  }
+
+  // The Riemann sum over a tile's rays, a ray per lane of the engine's
+  // kernel (avos/engine/Riemann.h): what CastRow and IntegrateRay give
+  // without clipping, the rays refilling the lanes across the tile's rows.
+  void CastTile(int x0, int x1, int y0, int y1, ThreadStatistics& stats, RayBuffers& buffers)
+  {
+    std::size_t count = 0;
+    for (int y = y0; y < y1; ++y)
+    {
+      const int n = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
+        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
+      const bool walks = WalksSegments(this->Map, this->Settings);
+      if (walks)
+      {
+        avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(n),
+          buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
+          SegmentPad, buffers.RowSegments.data());
+      }
+      for (int i = 0; i < n; ++i, ++count)
+      {
+        Segments& segments = buffers.TileSegments[count];
+        if (walks)
+        {
+          std::swap(segments, buffers.RowSegments[i]);
+        }
+        else
+        {
+          segments.assign(1, { 0.0, buffers.RowLengths[i] });
+        }
+        avos::engine::RiemannRay& ray = buffers.TileRays[count];
+        std::copy_n(&buffers.RowOrigins[3 * i], 3, ray.Origin);
+        std::copy_n(&buffers.RowDirections[3 * i], 3, ray.Direction);
+        ray.D = buffers.RowLengths[i];
+        ray.Segments = segments.data();
+        ray.Count = segments.size();
+        buffers.TileX[count] = buffers.RowX[i];
+        buffers.TileY[count] = y;
+      }
+    }
+    avos::engine::CastRiemannRays(*this->Settings.EngineVolume, *this->Settings.EngineTable,
+      this->Settings.SampleDistance, this->Settings.TerminationBound, buffers.TileRays.data(),
+      count, buffers.TileOutputs.data());
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      const avos::engine::RayOutput& out = buffers.TileOutputs[i];
+      an::RayResult<double> result;
+      result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+      result.Statistics.Samples = out.Samples;
+      this->Store(buffers.TileX[i], buffers.TileY[i], result, stats);
     }
   }
 
@@ -558,6 +624,7 @@ private:
   vtkSMPThreadLocal<ThreadStatistics>& Statistics;
   vtkSMPThreadLocal<RayBuffers>& Buffers;
   avos::WorkMonitor& Monitor;
+  bool RaysPerLane = false;
   int TilesX = 0;
 };
 

@@ -1,7 +1,8 @@
 // Google Benchmark rows of the vectorised kernels on each dispatch target
 // against the scalar code of the numerical core, on the same rays through a
 // 256^3 smooth volume: the Riemann kernel (64-knot transfer function, h 0.5,
-// no early termination; time per ray and per sample) and the packet walk of
+// no early termination; time per ray and per sample; a ray's samples in
+// lanes, and a ray per lane) and the packet walk of
 // the empty-space map (a transfer function transparent below 150, bundles of
 // 16 neighbouring rays as a tile's row casts them; time per ray), and the
 // piecewise method with its pieces' kernels scalar or vectorised (the same
@@ -260,6 +261,51 @@ void Vectorised(benchmark::State& state)
   Report(state, rays, samples);
 }
 
+// The same rays through the kernel's ray-per-lane entry point.
+void RaysPerLane(benchmark::State& state)
+{
+  const Fixture& f = Get(state.range(1) != 0);
+  hwy::SetSupportedTargetsForTest(state.range(0));
+  state.SetLabel(ae::CastRiemannTarget());
+  ae::Volume volume;
+  volume.Data = f.DataF.data();
+  std::copy(f.Dimensions, f.Dimensions + 3, volume.Dimensions);
+  std::vector<an::Interval<double>> whole;
+  std::vector<ae::RiemannRay> rays;
+  for (const auto& ray : f.RaySet)
+  {
+    whole.push_back({ 0.0, ray.Length });
+  }
+  for (std::size_t i = 0; i < f.RaySet.size(); ++i)
+  {
+    const auto& ray = f.RaySet[i];
+    ae::RiemannRay r;
+    for (int a = 0; a < 3; ++a)
+    {
+      r.Origin[a] = ray.Origin[a];
+      r.Direction[a] = ray.Direction[a];
+    }
+    r.D = ray.Length;
+    r.Segments = &whole[i];
+    r.Count = 1;
+    rays.push_back(r);
+  }
+  std::vector<ae::RayOutput> out(rays.size());
+  long samples = 0, count = 0;
+  for (auto _ : state)
+  {
+    ae::CastRiemannRays(volume, f.Table, 0.5, 0.0, rays.data(), rays.size(), out.data());
+    benchmark::DoNotOptimize(out.data());
+    for (const auto& o : out)
+    {
+      samples += o.Samples;
+    }
+    count += static_cast<long>(rays.size());
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  Report(state, count, samples);
+}
+
 // The fixture's alpha-model transfer function prepared for the piecewise
 // method at eps 1e-3 (index 0) or 1e-2 (1).
 const an::PiecewiseTransferFunction<double>& GetPieces(int coarse)
@@ -357,6 +403,12 @@ void RegisterTargets()
                                      "/vtk_opacity:" + std::to_string(alpha))
                                      .c_str(),
         Vectorised)
+        ->Args({ target, alpha })
+        ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark((std::string("RaysPerLane/") + hwy::TargetName(target) +
+                                     "/vtk_opacity:" + std::to_string(alpha))
+                                     .c_str(),
+        RaysPerLane)
         ->Args({ target, alpha })
         ->Unit(benchmark::kMillisecond);
     }

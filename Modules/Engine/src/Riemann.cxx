@@ -327,6 +327,194 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
   out.RGBA[3] = 1.0 - T;
 }
 
+template <Volume::Type Scalars>
+void CastRays(const Volume& volume, const TransferTable& tf, double h, double terminationBound,
+  const RiemannRay* rays, std::size_t count, RayOutput* out)
+{
+  const hn::ScalableTag<float> d;
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> dfHalf;
+  const int lanes = static_cast<int>(hn::Lanes(d));
+  const int doubleLanes = static_cast<int>(hn::Lanes(dd));
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    out[i] = RayOutput();
+  }
+  if (!(h > 0.0))
+  {
+    return;
+  }
+  const double bound = terminationBound / std::max(1.0, tf.MaximumColor);
+  // Each lane's state: the next sample index I and the last one of the
+  // segment it samples (I > Last: no sample left there), its ray's setup,
+  // T, colour and samples taken.
+  HWY_ALIGN double I[MaximumLanes], Last[MaximumLanes], N[MaximumLanes], Length[MaximumLanes],
+    O[3][MaximumLanes], Dir[3][MaximumLanes], T[MaximumLanes], C[3][MaximumLanes],
+    Samples[MaximumLanes];
+  HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
+  HWY_ALIGN float alpha[MaximumLanes] = {}, r[MaximumLanes] = {}, g[MaximumLanes] = {},
+                  b[MaximumLanes] = {};
+  constexpr std::size_t None = ~std::size_t(0);
+  std::size_t ray[MaximumLanes], segment[MaximumLanes];
+  std::size_t nextRay = 0;
+  int live = 0; // lanes with a ray
+  auto idle = [&](int k)
+  {
+    ray[k] = None;
+    I[k] = 1.0;
+    Last[k] = 0.0;
+    N[k] = Length[k] = 0.0;
+    for (int a = 0; a < 3; ++a)
+    {
+      O[a][k] = Dir[a][k] = 0.0;
+    }
+    T[k] = 1.0;
+  };
+  // Lane k on to its ray's next segment with a sample left (CastRiemann's
+  // order: the first index at or after the segment's start, the samples up
+  // to the first outside it), else its ray's output and the next ray.
+  auto advance = [&](int k)
+  {
+    for (;;)
+    {
+      if (ray[k] != None)
+      {
+        const RiemannRay& q = rays[ray[k]];
+        const long n = static_cast<long>(N[k]);
+        long next = static_cast<long>(I[k]);
+        while (T[k] > bound && segment[k] < q.Count && next <= n)
+        {
+          const numerics::Interval<double>& s = q.Segments[segment[k]];
+          next = std::max({ next, static_cast<long>(std::ceil(s.Begin / h)), 1L });
+          auto inside = [&](long i)
+          { return (i == n ? q.D : std::min(double(i) * h, q.D)) <= s.End; };
+          // t_i never decreases with i: the last index inside, from a guess.
+          long last = static_cast<long>(
+            std::max(std::min(double(n), std::floor(s.End / h)), double(next - 1)));
+          while (last < n && inside(last + 1))
+          {
+            ++last;
+          }
+          while (last >= next && !inside(last))
+          {
+            --last;
+          }
+          if (next <= last)
+          {
+            I[k] = double(next);
+            Last[k] = double(last);
+            return;
+          }
+          ++segment[k];
+        }
+        RayOutput& o = out[ray[k]];
+        for (int c = 0; c < 3; ++c)
+        {
+          o.RGBA[c] = C[c][k];
+        }
+        o.RGBA[3] = 1.0 - T[k];
+        o.Samples = static_cast<long>(Samples[k]);
+        --live;
+      }
+      if (nextRay == count)
+      {
+        idle(k);
+        return;
+      }
+      const RiemannRay& q = rays[nextRay];
+      ray[k] = nextRay++;
+      ++live;
+      segment[k] = 0;
+      Length[k] = q.D;
+      N[k] = q.D > 0.0 ? std::ceil(q.D / h) : 0.0;
+      I[k] = 1.0;
+      for (int a = 0; a < 3; ++a)
+      {
+        O[a][k] = q.Origin[a];
+        Dir[a][k] = q.Direction[a];
+        C[a][k] = 0.0;
+      }
+      T[k] = 1.0;
+      Samples[k] = 0.0;
+    }
+  };
+  for (int k = 0; k < lanes; ++k)
+  {
+    idle(k);
+    advance(k);
+  }
+  while (live > 0)
+  {
+    for (int k = 0; k < lanes; k += doubleLanes)
+    {
+      const auto i = hn::Load(dd, I + k);
+      const auto D = hn::Load(dd, Length + k);
+      const auto t =
+        hn::IfThenElse(hn::Eq(i, hn::Load(dd, N + k)), D, hn::Min(hn::Mul(i, hn::Set(dd, h)), D));
+      const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
+      hn::Store(hn::DemoteTo(dfHalf, step), dfHalf, dt + k);
+      float* positions[3] = { px + k, py + k, pz + k };
+      for (int a = 0; a < 3; ++a)
+      {
+        const auto p = hn::MulAdd(t, hn::Load(dd, Dir[a] + k), hn::Load(dd, O[a] + k));
+        hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, positions[a]);
+      }
+    }
+    Classify<Scalars>(d, volume, tf, hn::Load(d, px), hn::Load(d, py), hn::Load(d, pz),
+      hn::Load(d, dt), alpha, r, g, b);
+    bool service = false;
+    const float* colour[3] = { r, g, b };
+    for (int k = 0; k < lanes; k += doubleLanes)
+    {
+      auto i = hn::Load(dd, I + k);
+      const auto last = hn::Load(dd, Last + k);
+      const auto active = hn::Le(i, last);
+      const auto a = hn::IfThenElseZero(active, hn::PromoteTo(dd, hn::Load(dfHalf, alpha + k)));
+      auto transmittance = hn::Load(dd, T + k);
+      const auto weight = hn::Mul(transmittance, a);
+      for (int c = 0; c < 3; ++c)
+      {
+        hn::Store(hn::MulAdd(weight, hn::PromoteTo(dd, hn::Load(dfHalf, colour[c] + k)),
+                    hn::Load(dd, C[c] + k)),
+          dd, C[c] + k);
+      }
+      transmittance = hn::Mul(transmittance, hn::Sub(hn::Set(dd, 1.0), a));
+      hn::Store(transmittance, dd, T + k);
+      const auto taken = hn::IfThenElseZero(active, hn::Set(dd, 1.0));
+      hn::Store(hn::Add(hn::Load(dd, Samples + k), taken), dd, Samples + k);
+      i = hn::Add(i, taken);
+      hn::Store(i, dd, I + k);
+      service = service ||
+        !hn::AllFalse(
+          dd, hn::And(active, hn::Or(hn::Gt(i, last), hn::Le(transmittance, hn::Set(dd, bound)))));
+    }
+    if (service)
+    {
+      for (int k = 0; k < lanes; ++k)
+      {
+        if (ray[k] != None && (I[k] > Last[k] || T[k] <= bound))
+        {
+          advance(k);
+        }
+      }
+    }
+  }
+}
+
+void CastRiemannRaysImpl(const Volume& volume, const TransferTable& tf, double h,
+  double terminationBound, const RiemannRay* rays, std::size_t count, RayOutput* out)
+{
+  switch (volume.Scalars)
+  {
+    case Volume::Type::UInt8:
+      return CastRays<Volume::Type::UInt8>(volume, tf, h, terminationBound, rays, count, out);
+    case Volume::Type::UInt16:
+      return CastRays<Volume::Type::UInt16>(volume, tf, h, terminationBound, rays, count, out);
+    default:
+      return CastRays<Volume::Type::Float32>(volume, tf, h, terminationBound, rays, count, out);
+  }
+}
+
 void CastRiemannImpl(const Volume& volume, const TransferTable& tf, const double* origin,
   const double* direction, double D, double h, const numerics::Interval<double>* segments,
   std::size_t count, double terminationBound, RayOutput& out)
@@ -362,6 +550,13 @@ namespace engine
 {
 HWY_EXPORT(CastRiemannImpl);
 HWY_EXPORT(TargetNameImpl);
+HWY_EXPORT(CastRiemannRaysImpl);
+
+void CastRiemannRays(const Volume& volume, const TransferTable& tf, double h,
+  double terminationBound, const RiemannRay* rays, std::size_t count, RayOutput* out)
+{
+  HWY_DYNAMIC_DISPATCH(CastRiemannRaysImpl)(volume, tf, h, terminationBound, rays, count, out);
+}
 
 void CastRiemann(const Volume& volume, const TransferTable& tf, const double origin[3],
   const double direction[3], double D, double h, const numerics::Interval<double>* segments,

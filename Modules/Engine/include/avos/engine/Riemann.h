@@ -12,6 +12,13 @@
 // depend on how samples fall into vectors: empty-space skipping stays exact
 // to the bit) and rounded to float; compositing is in double.
 //
+// CastRiemannRays runs many rays at once, a ray per lane, each lane refilled
+// with the next ray when its own ends: no lane idles at a segment's end or
+// an early termination, and the compositing runs in double lanes instead of
+// a sample at a time (a ray's samples in lanes filled 82 to 94 % of the
+// lanes on the four datasets at 800x600, a ray per lane 97.5 % on Foot).
+// Each lane takes CastRiemann's samples with its arithmetic.
+//
 // Error bound against the double sum, per channel, without early
 // termination: 1e-4. Positions rounded to float move a sample by at most
 // 3e-5 voxel in a 512^3 volume; float scalars round 32-bit integers and
@@ -122,6 +129,26 @@ std::string Validate(const Volume& volume);
 void CastRiemann(const Volume& volume, const TransferTable& tf, const double origin[3],
   const double direction[3], double D, double h, const numerics::Interval<double>* segments,
   std::size_t count, double terminationBound, RayOutput& out);
+
+// A ray for CastRiemannRays: CastRiemann's arguments but the volume's, the
+// transfer function's, h and the termination bound.
+struct RiemannRay
+{
+  double Origin[3] = { 0.0, 0.0, 0.0 };
+  double Direction[3] = { 0.0, 0.0, 0.0 };
+  double D = 0.0;
+  const numerics::Interval<double>* Segments = nullptr;
+  std::size_t Count = 0;
+};
+
+// out[i] = CastRiemann's result for rays[i], i in [0, count), a ray per
+// lane: every lane steps its own ray's samples (from their indices, in
+// double, as CastRiemann), composites in double lanes, and takes the next
+// ray as soon as its own ends (its segments spent or T <= bound), so no
+// lane idles at a segment's end or an early termination while rays are
+// left.
+void CastRiemannRays(const Volume& volume, const TransferTable& tf, double h,
+  double terminationBound, const RiemannRay* rays, std::size_t count, RayOutput* out);
 
 // The name of the target CastRiemann dispatches to now ("AVX3", "AVX2",
 // "SSE4", "EMU128", ...): hwy::SetSupportedTargetsForTest changes it.
