@@ -257,12 +257,38 @@ public:
       avos::engine::PacketSegments(*this->Setup.Map, spanned, origins.data(), backs.data(),
         lengths.data(), SegmentPad, segments.data());
     }
+    for (std::size_t k = 0; k < spanned && !this->Setup.Map; ++k)
+    {
+      segments[k].assign(1, { 0.0, lengths[k] });
+    }
+    if (this->Setup.Engine && this->Setup.Method == RayIntegration::Levoy &&
+      this->Setup.Clip.IsEmpty())
+    {
+      // A ray per lane of the engine's kernel, the same sums as Integrate's.
+      thread_local std::vector<avos::engine::RiemannRay> lanes;
+      thread_local std::vector<avos::engine::RayOutput> outputs;
+      lanes.resize(spanned);
+      outputs.resize(spanned);
+      for (std::size_t k = 0; k < spanned; ++k)
+      {
+        std::copy_n(&origins[3 * k], 3, lanes[k].Origin);
+        std::copy_n(&backs[3 * k], 3, lanes[k].Direction);
+        lanes[k].D = lengths[k];
+        lanes[k].Segments = segments[k].data();
+        lanes[k].Count = segments[k].size();
+      }
+      avos::engine::CastRiemannRays(*this->Setup.Engine, this->Setup.Table,
+        this->Setup.SampleDistance, this->TerminationBound(), lanes.data(), spanned,
+        outputs.data());
+      for (std::size_t k = 0; k < spanned; ++k)
+      {
+        const double* c = outputs[k].RGBA;
+        results[rays[k]].RGBA = glm::dvec4(c[0], c[1], c[2], c[3]);
+      }
+      return;
+    }
     for (std::size_t k = 0; k < spanned; ++k)
     {
-      if (!this->Setup.Map)
-      {
-        segments[k].assign(1, { 0.0, lengths[k] });
-      }
       const double* o = &origins[3 * k];
       const double* b = &backs[3 * k];
       this->Integrate(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(b[0], b[1], b[2]), lengths[k],
@@ -341,8 +367,8 @@ private:
       // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
       avos::engine::RayOutput out;
       avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &back.x, D,
-        this->Setup.SampleDistance, segments.data(), segments.size(),
-        0.2 * this->Setup.Settings.Tolerance, out);
+        this->Setup.SampleDistance, segments.data(), segments.size(), this->TerminationBound(),
+        out);
       result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
       return;
     }
@@ -351,8 +377,11 @@ private:
     };
     result = avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
       avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),
-      0.2 * this->Setup.Settings.Tolerance);
+      this->TerminationBound());
   }
+
+  // The Riemann sums' early termination bound.
+  double TerminationBound() const { return 0.2 * this->Setup.Settings.Tolerance; }
 
   const VolumeRaySetup& Setup;
   const avos::numerics::TrilinearVolume<double, Storage> Volume;
