@@ -234,35 +234,10 @@ void Scalar(benchmark::State& state)
 }
 BENCHMARK(Scalar)->ArgName("vtk_opacity")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-void Vectorised(benchmark::State& state)
-{
-  const Fixture& f = Get(state.range(1) != 0);
-  hwy::SetSupportedTargetsForTest(state.range(0));
-  state.SetLabel(ae::CastRiemannTarget());
-  ae::Volume volume;
-  volume.Data = f.DataF.data();
-  std::copy(f.Dimensions, f.Dimensions + 3, volume.Dimensions);
-  long rays = 0, samples = 0;
-  for (auto _ : state)
-  {
-    for (const auto& ray : f.RaySet)
-    {
-      const an::Interval<double> whole{ 0.0, ray.Length };
-      const double o[3] = { ray.Origin.x, ray.Origin.y, ray.Origin.z };
-      const double d[3] = { ray.Direction.x, ray.Direction.y, ray.Direction.z };
-      ae::RayOutput out;
-      ae::CastRiemann(volume, f.Table, o, d, ray.Length, 0.5, &whole, 1, 0.0, out);
-      benchmark::DoNotOptimize(out.RGBA);
-      samples += out.Samples;
-      ++rays;
-    }
-  }
-  hwy::SetSupportedTargetsForTest(0);
-  Report(state, rays, samples);
-}
-
-// The same rays through the kernel's ray-per-lane entry point.
-void RaysPerLane(benchmark::State& state)
+// The vectorised Riemann kernel on the fixture's rays: a ray's samples in
+// lanes (CastRiemann, ray by ray) or a ray per lane (CastRiemannRays, all
+// rays at once).
+void RiemannKernel(benchmark::State& state, bool perLane)
 {
   const Fixture& f = Get(state.range(1) != 0);
   hwy::SetSupportedTargetsForTest(state.range(0));
@@ -271,30 +246,40 @@ void RaysPerLane(benchmark::State& state)
   volume.Data = f.DataF.data();
   std::copy(f.Dimensions, f.Dimensions + 3, volume.Dimensions);
   std::vector<an::Interval<double>> whole;
-  std::vector<ae::RiemannRay> rays;
   for (const auto& ray : f.RaySet)
   {
     whole.push_back({ 0.0, ray.Length });
   }
-  for (std::size_t i = 0; i < f.RaySet.size(); ++i)
+  std::vector<ae::RiemannRay> rays(f.RaySet.size());
+  for (std::size_t i = 0; i < rays.size(); ++i)
   {
     const auto& ray = f.RaySet[i];
-    ae::RiemannRay r;
     for (int a = 0; a < 3; ++a)
     {
-      r.Origin[a] = ray.Origin[a];
-      r.Direction[a] = ray.Direction[a];
+      rays[i].Origin[a] = ray.Origin[a];
+      rays[i].Direction[a] = ray.Direction[a];
     }
-    r.D = ray.Length;
-    r.Segments = &whole[i];
-    r.Count = 1;
-    rays.push_back(r);
+    rays[i].D = ray.Length;
+    rays[i].Segments = &whole[i];
+    rays[i].Count = 1;
   }
   std::vector<ae::RayOutput> out(rays.size());
-  long samples = 0, count = 0;
+  long count = 0, samples = 0;
   for (auto _ : state)
   {
-    ae::CastRiemannRays(volume, f.Table, 0.5, 0.0, rays.data(), rays.size(), out.data());
+    if (perLane)
+    {
+      ae::CastRiemannRays(volume, f.Table, 0.5, 0.0, rays.data(), rays.size(), out.data());
+    }
+    else
+    {
+      for (std::size_t i = 0; i < rays.size(); ++i)
+      {
+        const ae::RiemannRay& r = rays[i];
+        ae::CastRiemann(
+          volume, f.Table, r.Origin, r.Direction, r.D, 0.5, r.Segments, 1, 0.0, out[i]);
+      }
+    }
     benchmark::DoNotOptimize(out.data());
     for (const auto& o : out)
     {
@@ -304,6 +289,16 @@ void RaysPerLane(benchmark::State& state)
   }
   hwy::SetSupportedTargetsForTest(0);
   Report(state, count, samples);
+}
+
+void Vectorised(benchmark::State& state)
+{
+  RiemannKernel(state, false);
+}
+
+void RaysPerLane(benchmark::State& state)
+{
+  RiemannKernel(state, true);
 }
 
 // The fixture's alpha-model transfer function prepared for the piecewise
