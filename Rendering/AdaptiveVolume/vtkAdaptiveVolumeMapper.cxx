@@ -547,12 +547,12 @@ private:
   // without clipping, the rays refilling the lanes across the tile's rows.
   void CastTile(int x0, int x1, int y0, int y1, ThreadStatistics& stats, RayBuffers& buffers)
   {
+    const bool walks = WalksSegments(this->Map, this->Settings);
     std::size_t count = 0;
     for (int y = y0; y < y1; ++y)
     {
       const int n = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
         buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
-      const bool walks = WalksSegments(this->Map, this->Settings);
       if (walks)
       {
         avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(n),
