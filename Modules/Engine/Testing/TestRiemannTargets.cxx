@@ -247,7 +247,8 @@ TEST_P(RiemannTargets, RaysPerLaneEqualTheSampleLanes)
     ae::TransferTable table;
     ASSERT_EQ(table.Build(c.TF), "");
     // 203 rays: lanes refilled many times, and a last round that leaves
-    // lanes idle; some rays empty (no segment, or none with a sample).
+    // lanes idle; some rays empty (no segment, or none with a sample), some
+    // with a one-sample segment.
     const unsigned count = 203;
     std::vector<std::vector<an::Interval<double>>> segments(count);
     std::vector<ae::RiemannRay> rays(count);
@@ -262,6 +263,12 @@ TEST_P(RiemannTargets, RaysPerLaneEqualTheSampleLanes)
       else if (i % 17 == 9)
       {
         segments[i] = { { 0.2 * L + 1e-3, 0.2 * L + 2e-3 } };
+      }
+      else if (i % 17 == 13 && L > 8.0 * setting.H)
+      {
+        // One sample (index 3), then a segment ending exactly on a sample.
+        const double h = setting.H;
+        segments[i] = { { 3.0 * h - 1e-3, 3.0 * h + 1e-3 }, { 4.5 * h, 7.0 * h } };
       }
       else if (setting.Split && L > 4.0)
       {
