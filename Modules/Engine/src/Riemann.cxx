@@ -225,6 +225,31 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   }
 }
 
+// t_i = min(i h, D), and D itself for the last index n (IntegrateRiemann's
+// sample positions), in double.
+inline double SampleAt(long i, long n, double h, double D)
+{
+  return i == n ? D : std::min(double(i) * h, D);
+}
+
+// The same for double lanes (sample indices i, last indices n, lengths D):
+// the samples' steps and positions origin + t_i direction, rounded to float
+// into dt, px, py, pz. A lane's values depend on its own index and ray only.
+template <class DD, class V = hn::Vec<DD>>
+HWY_INLINE void Positions(DD dd, V i, V n, V D, double h, const V (&origin)[3],
+  const V (&direction)[3], float* dt, float* px, float* py, float* pz)
+{
+  const hn::Rebind<float, DD> df;
+  const auto t = hn::IfThenElse(hn::Eq(i, n), D, hn::Min(hn::Mul(i, hn::Set(dd, h)), D));
+  const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
+  hn::Store(hn::DemoteTo(df, step), df, dt);
+  float* positions[3] = { px, py, pz };
+  for (int a = 0; a < 3; ++a)
+  {
+    hn::Store(hn::DemoteTo(df, hn::MulAdd(t, direction[a], origin[a])), df, positions[a]);
+  }
+}
+
 template <Volume::Type Scalars>
 void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
   const double* direction, double D, double h, const numerics::Interval<double>* segments,
@@ -238,13 +263,16 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
                   b[MaximumLanes] = {};
   HWY_ALIGN float px[MaximumLanes], py[MaximumLanes], pz[MaximumLanes], dt[MaximumLanes];
   const hn::ScalableTag<double> dd;
-  const hn::Rebind<float, decltype(dd)> dfHalf;
   const int doubleLanes = static_cast<int>(hn::Lanes(dd));
   out = RayOutput();
   if (!(D > 0.0) || !(h > 0.0))
   {
     return;
   }
+  const hn::Vec<decltype(dd)> o[3] = { hn::Set(dd, origin[0]), hn::Set(dd, origin[1]),
+    hn::Set(dd, origin[2]) };
+  const hn::Vec<decltype(dd)> v[3] = { hn::Set(dd, direction[0]), hn::Set(dd, direction[1]),
+    hn::Set(dd, direction[2]) };
   const double bound = terminationBound / std::max(1.0, tf.MaximumColor);
   double color[3] = { 0.0, 0.0, 0.0 };
   double T = 1.0;
@@ -262,8 +290,7 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
       // rounds monotonically, t_n = D is the largest), so the last index in
       // the segment is found by bisection, after one test in the usual case
       // of a vector wholly inside.
-      auto inside = [&](long i)
-      { return (i == n ? D : std::min(double(i) * h, D)) <= segments[j].End; };
+      auto inside = [&](long i) { return SampleAt(i, n, h, D) <= segments[j].End; };
       long last = std::min(next + lanes - 1, n); // the last index inside
       if (!inside(last))
       {
@@ -285,17 +312,8 @@ void Cast(const Volume& volume, const TransferTable& tf, const double* origin,
       // vectors' grouping (which the segments shift) changes no bit.
       for (int k = 0; k < lanes; k += doubleLanes)
       {
-        const auto i = hn::Iota(dd, double(next + k));
-        const auto t = hn::IfThenElse(hn::Eq(i, hn::Set(dd, double(n))), hn::Set(dd, D),
-          hn::Min(hn::Mul(i, hn::Set(dd, h)), hn::Set(dd, D)));
-        const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
-        hn::Store(hn::DemoteTo(dfHalf, step), dfHalf, dt + k);
-        float* positions[3] = { px + k, py + k, pz + k };
-        for (int axis = 0; axis < 3; ++axis)
-        {
-          const auto p = hn::MulAdd(t, hn::Set(dd, direction[axis]), hn::Set(dd, origin[axis]));
-          hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, positions[axis]);
-        }
+        Positions(dd, hn::Iota(dd, double(next + k)), hn::Set(dd, double(n)), hn::Set(dd, D), h, o,
+          v, dt + k, px + k, py + k, pz + k);
       }
       Classify<Scalars>(d, volume, tf, hn::Load(d, px), hn::Load(d, py), hn::Load(d, pz),
         hn::Load(d, dt), alpha, r, g, b);
@@ -386,8 +404,7 @@ void CastRays(const Volume& volume, const TransferTable& tf, double h, double te
         {
           const numerics::Interval<double>& s = q.Segments[segment[k]];
           next = std::max({ next, static_cast<long>(std::ceil(s.Begin / h)), 1L });
-          auto inside = [&](long i)
-          { return (i == n ? q.D : std::min(double(i) * h, q.D)) <= s.End; };
+          auto inside = [&](long i) { return SampleAt(i, n, h, q.D) <= s.End; };
           // t_i never decreases with i: the last index inside, from a guess.
           long last = static_cast<long>(
             std::max(std::min(double(n), std::floor(s.End / h)), double(next - 1)));
@@ -447,18 +464,12 @@ void CastRays(const Volume& volume, const TransferTable& tf, double h, double te
   {
     for (int k = 0; k < lanes; k += doubleLanes)
     {
-      const auto i = hn::Load(dd, I + k);
-      const auto D = hn::Load(dd, Length + k);
-      const auto t =
-        hn::IfThenElse(hn::Eq(i, hn::Load(dd, N + k)), D, hn::Min(hn::Mul(i, hn::Set(dd, h)), D));
-      const auto step = hn::Sub(t, hn::Mul(hn::Sub(i, hn::Set(dd, 1.0)), hn::Set(dd, h)));
-      hn::Store(hn::DemoteTo(dfHalf, step), dfHalf, dt + k);
-      float* positions[3] = { px + k, py + k, pz + k };
-      for (int a = 0; a < 3; ++a)
-      {
-        const auto p = hn::MulAdd(t, hn::Load(dd, Dir[a] + k), hn::Load(dd, O[a] + k));
-        hn::Store(hn::DemoteTo(dfHalf, p), dfHalf, positions[a]);
-      }
+      const hn::Vec<decltype(dd)> o[3] = { hn::Load(dd, O[0] + k), hn::Load(dd, O[1] + k),
+        hn::Load(dd, O[2] + k) };
+      const hn::Vec<decltype(dd)> v[3] = { hn::Load(dd, Dir[0] + k), hn::Load(dd, Dir[1] + k),
+        hn::Load(dd, Dir[2] + k) };
+      Positions(dd, hn::Load(dd, I + k), hn::Load(dd, N + k), hn::Load(dd, Length + k), h, o, v,
+        dt + k, px + k, py + k, pz + k);
     }
     Classify<Scalars>(d, volume, tf, hn::Load(d, px), hn::Load(d, py), hn::Load(d, pz),
       hn::Load(d, dt), alpha, r, g, b);
