@@ -521,14 +521,7 @@ private:
   // the box, set up and walked through the empty-space map as one packet.
   void CastRow(int x0, int x1, int y, ThreadStatistics& stats, RayBuffers& buffers)
   {
-    const int count = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
-      buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
-    if (WalksSegments(this->Map, this->Settings))
-    {
-      avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
-        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
-        SegmentPad, buffers.RowSegments.data());
-    }
+    const int count = this->SetUpRow(x0, x1, y, buffers);
     for (int i = 0; i < count; ++i)
     {
       std::swap(buffers.Visible, buffers.RowSegments[i]);
@@ -542,6 +535,21 @@ private:
     }
   }
 
+  // The rays of pixels [x0, x1) of row y that meet the box into buffers.Row*
+  // (their segments too where the rays walk the empty-space map); how many.
+  int SetUpRow(int x0, int x1, int y, RayBuffers& buffers) const
+  {
+    const int count = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
+      buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
+    if (WalksSegments(this->Map, this->Settings))
+    {
+      avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
+        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
+        SegmentPad, buffers.RowSegments.data());
+    }
+    return count;
+  }
+
   // The Riemann sum over a tile's rays, a ray per lane of the engine's
   // kernel (avos/engine/Riemann.h): what CastRow and IntegrateRay give
   // without clipping, the rays refilling the lanes across the tile's rows.
@@ -551,14 +559,7 @@ private:
     std::size_t count = 0;
     for (int y = y0; y < y1; ++y)
     {
-      const int n = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
-        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
-      if (walks)
-      {
-        avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(n),
-          buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
-          SegmentPad, buffers.RowSegments.data());
-      }
+      const int n = this->SetUpRow(x0, x1, y, buffers);
       for (int i = 0; i < n; ++i, ++count)
       {
         Segments& segments = buffers.TileSegments[count];
