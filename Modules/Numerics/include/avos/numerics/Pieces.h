@@ -626,69 +626,266 @@ int Extrema(const Cubic<Real>& s, Real length, Real extrema[2])
   }
   return QuadraticRoots(Real(3) * s.K[3], Real(2) * s.K[2], s.K[1], length, extrema);
 }
+
+// A monotone stretch [A, B] of a cell's cubic s (between its extrema) and
+// the knots strictly inside its range (slo, shi), in the order the ray meets
+// them: sub-piece j (0 .. Inside) lies in the transfer-function piece
+// PieceAt(j), and ends at the crossing of knot Value(j) (j < Inside) or at B.
+template <typename Real>
+struct Stretch
+{
+  Real A = Real(0), B = Real(0);
+  bool Rising = true;
+  std::size_t K0 = 0, K1 = 0, Inside = 0;
+
+  Stretch() = default;
+  Stretch(const Cubic<Real>& s, Real a, Real b, const PiecewiseTransferFunction<Real>& tf)
+    : A(a)
+    , B(b)
+  {
+    const Real sa = s(a), sb = s(b);
+    this->Rising = sb >= sa;
+    this->K0 = tf.Locate(std::min(sa, sb));
+    this->K1 = tf.CountBelow(std::max(sa, sb));
+    this->Inside = this->K1 > this->K0 ? this->K1 - this->K0 : 0;
+  }
+
+  std::size_t PieceAt(std::size_t j) const { return this->Rising ? this->K0 + j : this->K1 - j; }
+
+  // Sub-piece j from u (where the one before ended), up to `root` (the
+  // crossing of Value(j), read only when j < Inside) or B: where it ends
+  // (the next starts there), and whether it is integrated, then in which
+  // transfer-function piece (`piece`).
+  bool SubPiece(const PiecewiseTransferFunction<Real>& tf, const Cubic<Real>& s, std::size_t j,
+    Real u, Real root, Real& end, std::size_t& piece) const
+  {
+    const bool visible = this->Inside == 0 || tf.IsVisible(this->PieceAt(j));
+    // Rounding may put a root before the one of the knot before.
+    end = j < this->Inside ? std::min(std::max(root, u), this->B) : this->B;
+    if (!visible || !(end > u))
+    {
+      return false;
+    }
+    // The transfer-function piece from the scalar in the middle: robust
+    // where a crossing rounds onto a knot.
+    piece = tf.LocateNear(s(Real(0.5) * (u + end)), this->PieceAt(j));
+    return tf.IsVisible(piece);
+  }
+
+  Real Value(const std::vector<Real>& knots, std::size_t j) const
+  {
+    return knots[this->Rising ? this->K0 + j : this->K1 - 1 - j];
+  }
+
+  // A knot between two transparent sub-pieces bounds nothing that is
+  // integrated: its crossing is not sought (on Foot's transfer function,
+  // two thirds of all crossings). The sub-pieces that matter are the
+  // visible ones and those ending at a sought crossing (whose next is
+  // visible); Useful(j) is the first of them from j on (Inside + 1 when
+  // none), found through the transfer function's next or previous visible
+  // piece, so that a transparent run is passed over at once. With no knot
+  // inside, the stretch is one sub-piece, always taken.
+  std::size_t Useful(const PiecewiseTransferFunction<Real>& tf, std::size_t j) const
+  {
+    if (this->Inside == 0)
+    {
+      return j;
+    }
+    if (j > this->Inside)
+    {
+      return this->Inside + 1;
+    }
+    if (this->Rising)
+    {
+      // Pieces K0 + j, ascending.
+      const std::size_t p = tf.NextVisible(this->K0 + j);
+      if (p > this->K1)
+      {
+        return this->Inside + 1;
+      }
+      return p - this->K0 > j ? p - this->K0 - 1 : j;
+    }
+    // Pieces K1 - j, descending.
+    const std::size_t end = tf.PreviousVisibleEnd(this->K1 - j);
+    if (end <= this->K0)
+    {
+      return this->Inside + 1;
+    }
+    const std::size_t p = end - 1;
+    return this->K1 - p > j ? this->K1 - p - 1 : j;
+  }
+};
+
+// The bounds of a cell's monotone stretches over [0, length]: 0, the
+// extrema of s inside (Extrema), length; how many (2 to 4).
+template <typename Real>
+int StretchBounds(const Cubic<Real>& s, Real length, Real bounds[4])
+{
+  Real extrema[2];
+  const int r = Extrema(s, length, extrema);
+  bounds[0] = Real(0);
+  for (int i = 0; i < r; ++i)
+  {
+    bounds[i + 1] = extrema[i];
+  }
+  bounds[r + 1] = length;
+  return r + 2;
+}
 } // namespace detail
 
 // The cells the ray origin + t direction (grid coordinates, t in the
-// caller's units) crosses over [tBegin, tEnd], inside the volume's box, in
-// order (Amanatides and Woo's traversal): visit(const int cell[3], t0, t1)
-// for each, with the part [t0, t1] of the ray inside it; visit returns false
-// to stop. At most nx + ny + nz + 3 iterations; none for a non-finite ray.
-// Returns false when stopped.
+// caller's units) crosses over [tBegin, tEnd], inside the box of a volume of
+// `dimensions` points, in order (Amanatides and Woo's traversal), a cell at
+// a time: Next gives the next cell with a part [t0, t1] (t1 > t0) of the
+// ray inside it, false once none is left. At most nx + ny + nz + 3 steps;
+// none for a non-finite ray.
+template <typename Real>
+class CellWalker
+{
+public:
+  CellWalker() = default;
+  CellWalker(const int dimensions[3], const glm::vec<3, Real>& origin,
+    const glm::vec<3, Real>& direction, Real tBegin, Real tEnd)
+  {
+    const glm::vec<3, Real> p = origin + tBegin * direction;
+    // A non-finite ray (or span) visits nothing: its cell would be undefined.
+    if (!(tBegin < tEnd) || !std::isfinite(tEnd - tBegin) ||
+      !std::isfinite(p.x + p.y + p.z + direction.x + direction.y + direction.z))
+    {
+      return;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      this->N[a] = dimensions[a] - 1; // cells along the axis
+      const Real x = std::min(std::max(p[a], Real(0)), Real(this->N[a]));
+      this->Index[a] = std::min(static_cast<int>(x), this->N[a] - 1);
+      if (direction[a] > Real(0))
+      {
+        this->Step[a] = 1;
+        this->TMax[a] = (Real(this->Index[a] + 1) - origin[a]) / direction[a];
+        this->TDelta[a] = Real(1) / direction[a];
+      }
+      else if (direction[a] < Real(0))
+      {
+        this->Step[a] = -1;
+        this->TMax[a] = (Real(this->Index[a]) - origin[a]) / direction[a];
+        this->TDelta[a] = -Real(1) / direction[a];
+      }
+      else
+      {
+        this->Step[a] = 0;
+        this->TMax[a] = std::numeric_limits<Real>::infinity();
+        this->TDelta[a] = this->TMax[a];
+      }
+    }
+    this->T = tBegin;
+    this->TEnd = tEnd;
+    this->Left = this->N[0] + this->N[1] + this->N[2] + 3;
+  }
+
+  bool Next(int cell[3], Real& t0, Real& t1)
+  {
+    Real* tMax = this->TMax;
+    while (this->Left > 0 && this->T < this->TEnd)
+    {
+      --this->Left;
+      const int axis =
+        tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
+      const Real end = std::min(tMax[axis], this->TEnd);
+      const bool inside = end > this->T;
+      if (inside)
+      {
+        std::copy(this->Index, this->Index + 3, cell);
+        t0 = this->T;
+        t1 = end;
+      }
+      this->T = std::max(this->T, end);
+      this->Index[axis] += this->Step[axis];
+      if (this->Index[axis] < 0 || this->Index[axis] >= this->N[axis])
+      {
+        this->Left = 0;
+      }
+      else
+      {
+        tMax[axis] += this->TDelta[axis];
+      }
+      if (inside)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Next's cells appended to `batch` (its Index, Begin, End: a CellBatch)
+  // until it holds `limit`; how many were appended (0: none is left).
+  template <typename Batch>
+  int Fill(Batch& batch, int limit)
+  {
+    // The state in locals over the loop (kept in registers).
+    int index[3] = { this->Index[0], this->Index[1], this->Index[2] };
+    Real tMax[3] = { this->TMax[0], this->TMax[1], this->TMax[2] };
+    Real t = this->T;
+    int left = this->Left;
+    const int before = batch.Count;
+    while (batch.Count < limit && left > 0 && t < this->TEnd)
+    {
+      --left;
+      const int axis =
+        tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
+      const Real end = std::min(tMax[axis], this->TEnd);
+      if (end > t)
+      {
+        const int c = batch.Count++;
+        for (int a = 0; a < 3; ++a)
+        {
+          batch.Index[a][c] = index[a];
+        }
+        batch.Begin[c] = t;
+        batch.End[c] = end;
+      }
+      t = std::max(t, end);
+      index[axis] += this->Step[axis];
+      if (index[axis] < 0 || index[axis] >= this->N[axis])
+      {
+        left = 0;
+      }
+      else
+      {
+        tMax[axis] += this->TDelta[axis];
+      }
+    }
+    std::copy(index, index + 3, this->Index);
+    std::copy(tMax, tMax + 3, this->TMax);
+    this->T = t;
+    this->Left = left;
+    return batch.Count - before;
+  }
+
+private:
+  int N[3] = { 0, 0, 0 }, Index[3] = { 0, 0, 0 }, Step[3] = { 0, 0, 0 };
+  Real TMax[3] = { Real(0), Real(0), Real(0) }, TDelta[3] = { Real(0), Real(0), Real(0) };
+  Real T = Real(0), TEnd = Real(0);
+  int Left = 0; // steps left
+};
+
+// CellWalker's cells, visit(const int cell[3], t0, t1) for each; visit
+// returns false to stop. Returns false when stopped.
 template <typename Real, typename VolumeT, typename Visit>
 bool CellWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
   const glm::vec<3, Real>& direction, Real tBegin, Real tEnd, Visit&& visit)
 {
-  const glm::vec<3, Real> p = origin + tBegin * direction;
-  // A non-finite ray (or span) visits nothing: its cell would be undefined.
-  if (!(tBegin < tEnd) || !std::isfinite(tEnd - tBegin) ||
-    !std::isfinite(p.x + p.y + p.z + direction.x + direction.y + direction.z))
+  const int dimensions[3] = { volume.GetDimension(0), volume.GetDimension(1),
+    volume.GetDimension(2) };
+  CellWalker<Real> walker(dimensions, origin, direction, tBegin, tEnd);
+  int cell[3] = { 0, 0, 0 };
+  Real t0 = Real(0), t1 = Real(0);
+  while (walker.Next(cell, t0, t1))
   {
-    return true;
-  }
-  int n[3], index[3], step[3];
-  Real tMax[3], tDelta[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    n[a] = volume.GetDimension(a) - 1; // cells along the axis
-    const Real x = std::min(std::max(p[a], Real(0)), Real(n[a]));
-    index[a] = std::min(static_cast<int>(x), n[a] - 1);
-    if (direction[a] > Real(0))
-    {
-      step[a] = 1;
-      tMax[a] = (Real(index[a] + 1) - origin[a]) / direction[a];
-      tDelta[a] = Real(1) / direction[a];
-    }
-    else if (direction[a] < Real(0))
-    {
-      step[a] = -1;
-      tMax[a] = (Real(index[a]) - origin[a]) / direction[a];
-      tDelta[a] = -Real(1) / direction[a];
-    }
-    else
-    {
-      step[a] = 0;
-      tMax[a] = std::numeric_limits<Real>::infinity();
-      tDelta[a] = tMax[a];
-    }
-  }
-  Real t = tBegin;
-  const int maximumCells = n[0] + n[1] + n[2] + 3;
-  for (int visited = 0; visited < maximumCells && t < tEnd; ++visited)
-  {
-    const int axis =
-      tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
-    const Real t1 = std::min(tMax[axis], tEnd);
-    if (t1 > t && !visit(static_cast<const int*>(index), t, t1))
+    if (!visit(static_cast<const int*>(cell), t0, t1))
     {
       return false;
     }
-    t = std::max(t, t1);
-    index[axis] += step[axis];
-    if (index[axis] < 0 || index[axis] >= n[axis])
-    {
-      break;
-    }
-    tMax[axis] += tDelta[axis];
   }
   return true;
 }
@@ -866,79 +1063,12 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
     // Monotone stretches: split at the extrema inside the cell.
     Real bounds[4];
-    int count = 0;
-    bounds[count++] = Real(0);
-    Real extrema[2];
-    const int r = detail::Extrema(s, length, extrema);
-    for (int i = 0; i < r; ++i)
-    {
-      bounds[count++] = extrema[i];
-    }
-    bounds[count++] = length;
-    // Per stretch, the knots strictly inside its range (slo, shi), in the
-    // order the ray meets them: sub-piece j lies in the transfer-function
-    // piece rising ? k0 + j : k1 - j.
-    struct Stretch
-    {
-      Real A, B; // [ua, ub]
-      bool Rising;
-      std::size_t K0, K1, Inside;
-      std::size_t PieceAt(std::size_t j) const
-      {
-        return this->Rising ? this->K0 + j : this->K1 - j;
-      }
-    };
-    Stretch stretches[3];
+    const int count = detail::StretchBounds(s, length, bounds);
+    detail::Stretch<Real> stretches[3];
     for (int b = 0; b + 1 < count; ++b)
     {
-      Stretch& st = stretches[b];
-      st.A = bounds[b];
-      st.B = bounds[b + 1];
-      const Real sa = s(st.A), sb = s(st.B);
-      st.Rising = sb >= sa;
-      st.K0 = tf.Locate(std::min(sa, sb));
-      st.K1 = tf.CountBelow(std::max(sa, sb));
-      st.Inside = st.K1 > st.K0 ? st.K1 - st.K0 : 0;
+      stretches[b] = detail::Stretch<Real>(s, bounds[b], bounds[b + 1], tf);
     }
-    // A knot between two transparent sub-pieces bounds nothing that is
-    // integrated: its crossing is not sought (on Foot's transfer function,
-    // two thirds of all crossings). The sub-pieces that matter are the
-    // visible ones and those ending at a sought crossing (whose next is
-    // visible); useful(st, j) is the first of them from j on (st.Inside + 1
-    // when none), found through the transfer function's next or previous
-    // visible piece, so that a transparent run is passed over at once.
-    // With no knot inside, the stretch is one sub-piece, always taken.
-    auto useful = [&](const Stretch& st, std::size_t j) -> std::size_t
-    {
-      if (st.Inside == 0)
-      {
-        return j;
-      }
-      if (j > st.Inside)
-      {
-        return st.Inside + 1;
-      }
-      if (st.Rising)
-      {
-        // Pieces K0 + j, ascending.
-        const std::size_t p = tf.NextVisible(st.K0 + j);
-        if (p > st.K1)
-        {
-          return st.Inside + 1;
-        }
-        return p - st.K0 > j ? p - st.K0 - 1 : j;
-      }
-      // Pieces K1 - j, descending.
-      const std::size_t end = tf.PreviousVisibleEnd(st.K1 - j);
-      if (end <= st.K0)
-      {
-        return st.Inside + 1;
-      }
-      const std::size_t p = end - 1;
-      return st.K1 - p > j ? st.K1 - p - 1 : j;
-    };
-    auto value = [&](const Stretch& st, std::size_t j)
-    { return knots[st.Rising ? st.K0 + j : st.K1 - 1 - j]; };
     // The crossings sought, each bracketed by its whole stretch (so that
     // they are independent), through kernels.Crossings a batch at a time:
     // the first MaximumSolved of the cell; any beyond are found below.
@@ -964,12 +1094,12 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     };
     for (int b = 0; b + 1 < count && solvedCount < MaximumSolved; ++b)
     {
-      const Stretch& st = stretches[b];
-      for (std::size_t j = useful(st, 0); j < st.Inside && solvedCount < MaximumSolved;
-           j = useful(st, j + 1))
+      const detail::Stretch<Real>& st = stretches[b];
+      for (std::size_t j = st.Useful(tf, 0); j < st.Inside && solvedCount < MaximumSolved;
+           j = st.Useful(tf, j + 1))
       {
         const int at = crossing.Count++;
-        crossing.Value[at] = value(st, j);
+        crossing.Value[at] = st.Value(knots, j);
         crossing.Lo[at] = st.A;
         crossing.Hi[at] = st.B;
         if (crossing.Count == CrossingBatch<Real>::Capacity)
@@ -985,30 +1115,22 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     int taken = 0;
     for (int b = 0; b + 1 < count; ++b)
     {
-      const Stretch& st = stretches[b];
-      const Real ub = st.B;
+      const detail::Stretch<Real>& st = stretches[b];
       Real u = st.A; // the start of sub-piece j, or a point before it when skipped
-      for (std::size_t j = useful(st, 0); j <= st.Inside; j = useful(st, j + 1))
+      for (std::size_t j = st.Useful(tf, 0); j <= st.Inside; j = st.Useful(tf, j + 1))
       {
-        const bool visible = st.Inside == 0 || tf.IsVisible(st.PieceAt(j));
-        Real next = ub;
+        Real root = st.B, next;
         if (j < st.Inside)
         {
-          const Real root =
-            taken < solvedCount ? solved[taken] : detail::Crossing(s, value(st, j), st.A, ub);
+          root = taken < solvedCount ? solved[taken]
+                                     : detail::Crossing(s, st.Value(knots, j), st.A, st.B);
           ++taken;
-          // Rounding may put a root before the one of the knot before.
-          next = std::min(std::max(root, u), ub);
         }
-        if (visible && next > u)
+        std::size_t piece;
+        if (st.SubPiece(tf, s, j, u, root, next, piece) &&
+          !emit(u, next, s.Shifted(u), piece, true))
         {
-          // The transfer-function piece from the scalar in the middle:
-          // robust where a crossing rounds onto a knot.
-          const std::size_t piece = tf.LocateNear(s(Real(0.5) * (u + next)), st.PieceAt(j));
-          if (tf.IsVisible(piece) && !emit(u, next, s.Shifted(u), piece, true))
-          {
-            return false;
-          }
+          return false;
         }
         u = std::max(u, next);
       }
@@ -1031,21 +1153,24 @@ bool PieceWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
     }
     return true;
   };
-  bool going = CellWalk(volume, origin, direction, tBegin, tEnd,
-    [&](const int index[3], Real t, Real t1) -> bool
+  const int dimensions[3] = { volume.GetDimension(0), volume.GetDimension(1),
+    volume.GetDimension(2) };
+  CellWalker<Real> walker(dimensions, origin, direction, tBegin, tEnd);
+  for (;;)
+  {
+    // The limit may change while a batch is integrated (flush).
+    const int limit = cellLimit ? std::min(std::max(*cellLimit, 1), CellBatch<Real>::Capacity)
+                                : CellBatch<Real>::Capacity;
+    walker.Fill(batch, limit);
+    if (batch.Count == 0)
     {
-      const int i = batch.Count++;
-      for (int a = 0; a < 3; ++a)
-      {
-        batch.Index[a][i] = index[a];
-      }
-      batch.Begin[i] = t;
-      batch.End[i] = t1;
-      const int limit = cellLimit ? std::min(std::max(*cellLimit, 1), CellBatch<Real>::Capacity)
-                                  : CellBatch<Real>::Capacity;
-      return batch.Count < limit || flush();
-    });
-  return going && (batch.Count == 0 || flush());
+      return true;
+    }
+    if (!flush())
+    {
+      return false;
+    }
+  }
 }
 
 } // namespace numerics
