@@ -48,6 +48,15 @@
 #include <utility>
 #include <vector>
 
+// The cut's helpers are called once per sub-piece in the walk's innermost
+// loop, where GCC would leave them out of line (7 to 9 % of a piecewise
+// frame on Foot and Bonsai, measured).
+#if defined(__GNUC__)
+#define AVOS_NUMERICS_INLINE inline __attribute__((always_inline))
+#else
+#define AVOS_NUMERICS_INLINE inline
+#endif
+
 namespace avos
 {
 namespace numerics
@@ -639,7 +648,8 @@ struct Stretch
   std::size_t K0 = 0, K1 = 0, Inside = 0;
 
   Stretch() = default;
-  Stretch(const Cubic<Real>& s, Real a, Real b, const PiecewiseTransferFunction<Real>& tf)
+  AVOS_NUMERICS_INLINE Stretch(
+    const Cubic<Real>& s, Real a, Real b, const PiecewiseTransferFunction<Real>& tf)
     : A(a)
     , B(b)
   {
@@ -656,8 +666,8 @@ struct Stretch
   // crossing of Value(j), read only when j < Inside) or B: where it ends
   // (the next starts there), and whether it is integrated, then in which
   // transfer-function piece (`piece`).
-  bool SubPiece(const PiecewiseTransferFunction<Real>& tf, const Cubic<Real>& s, std::size_t j,
-    Real u, Real root, Real& end, std::size_t& piece) const
+  AVOS_NUMERICS_INLINE bool SubPiece(const PiecewiseTransferFunction<Real>& tf,
+    const Cubic<Real>& s, std::size_t j, Real u, Real root, Real& end, std::size_t& piece) const
   {
     const bool visible = this->Inside == 0 || tf.IsVisible(this->PieceAt(j));
     // Rounding may put a root before the one of the knot before.
@@ -685,7 +695,8 @@ struct Stretch
   // none), found through the transfer function's next or previous visible
   // piece, so that a transparent run is passed over at once. With no knot
   // inside, the stretch is one sub-piece, always taken.
-  std::size_t Useful(const PiecewiseTransferFunction<Real>& tf, std::size_t j) const
+  AVOS_NUMERICS_INLINE std::size_t Useful(
+    const PiecewiseTransferFunction<Real>& tf, std::size_t j) const
   {
     if (this->Inside == 0)
     {
@@ -719,7 +730,7 @@ struct Stretch
 // The bounds of a cell's monotone stretches over [0, length]: 0, the
 // extrema of s inside (Extrema), length; how many (2 to 4).
 template <typename Real>
-int StretchBounds(const Cubic<Real>& s, Real length, Real bounds[4])
+AVOS_NUMERICS_INLINE int StretchBounds(const Cubic<Real>& s, Real length, Real bounds[4])
 {
   Real extrema[2];
   const int r = Extrema(s, length, extrema);
@@ -783,7 +794,7 @@ public:
     this->Left = this->N[0] + this->N[1] + this->N[2] + 3;
   }
 
-  bool Next(int cell[3], Real& t0, Real& t1)
+  AVOS_NUMERICS_INLINE bool Next(int cell[3], Real& t0, Real& t1)
   {
     Real* tMax = this->TMax;
     while (this->Left > 0 && this->T < this->TEnd)
@@ -820,7 +831,7 @@ public:
   // Next's cells appended to `batch` (its Index, Begin, End: a CellBatch)
   // until it holds `limit`; how many were appended (0: none is left).
   template <typename Batch>
-  int Fill(Batch& batch, int limit)
+  AVOS_NUMERICS_INLINE int Fill(Batch& batch, int limit)
   {
     // The state in locals over the loop (kept in registers).
     int index[3] = { this->Index[0], this->Index[1], this->Index[2] };
