@@ -31,6 +31,7 @@
 
 #include "avos/engine/EmptySpace.h"
 #include "avos/engine/PieceKernels.h"
+#include "avos/engine/PiecewiseRays.h"
 #include "avos/engine/PixelRays.h"
 #include "avos/engine/Riemann.h"
 #include "avos/numerics/Accumulation.h"
@@ -72,10 +73,11 @@ struct RayBuffers
   std::array<double, 3 * TileSize> RowOrigins, RowDirections;
   std::array<double, TileSize> RowLengths;
   std::array<Segments, TileSize> RowSegments;
-  // A tile's rays for the Riemann kernel's lanes.
+  // A tile's rays for the lanes of the Riemann kernel or the piecewise one.
   std::array<Segments, TileSize * TileSize> TileSegments;
   std::array<avos::engine::RiemannRay, TileSize * TileSize> TileRays;
   std::array<avos::engine::RayOutput, TileSize * TileSize> TileOutputs;
+  std::array<avos::engine::PiecewiseOutput, TileSize * TileSize> TilePieceOutputs;
   std::array<int, TileSize * TileSize> TileX, TileY;
 };
 // Widening of the empty-space segments, in voxel units: far above rounding,
@@ -140,8 +142,10 @@ struct Method
   const avos::engine::Volume* EngineVolume = nullptr;
   const avos::engine::TransferTable* EngineTable = nullptr;
   // PIECEWISE_ADAPTIVE's kernels, given the same copy where the scalars are
-  // 8- or 16-bit (else its cells take the scalar walk).
+  // 8- or 16-bit (else its cells take the scalar walk), and there its pieces'
+  // table for the ray-per-lane integrator (null: a ray at a time).
   avos::engine::PieceKernels Kernels;
+  const avos::engine::PiecewiseTable* PieceTable = nullptr;
   // Gradient shading of the emission (null: none), with the grid-to-world
   // matrix's linear part (ray directions to world) and the normal matrix
   // (grid gradients to world).
@@ -485,8 +489,11 @@ public:
     , Monitor(monitor)
   {
     this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
-    this->RaysPerLane = method.Kind == vtkAdaptiveVolumeMapper::RIEMANN && method.EngineVolume &&
-      method.Blend == vtkVolumeMapper::COMPOSITE_BLEND && geometry.Clip.IsEmpty();
+    const bool lanes = method.Kind == vtkAdaptiveVolumeMapper::RIEMANN
+      ? method.EngineVolume != nullptr
+      : method.Kind == vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE && method.PieceTable;
+    this->RaysPerLane =
+      lanes && method.Blend == vtkVolumeMapper::COMPOSITE_BLEND && geometry.Clip.IsEmpty();
   }
 
   // Tiles [begin, end) in row-major order over the cast rectangle. Once the
@@ -550,9 +557,10 @@ private:
     return count;
   }
 
-  // The Riemann sum over a tile's rays, a ray per lane of the engine's
-  // kernel (avos/engine/Riemann.h): what CastRow and IntegrateRay give
-  // without clipping, the rays refilling the lanes across the tile's rows.
+  // The Riemann sum or the piecewise method over a tile's rays, a ray per
+  // lane of the engine's kernels (avos/engine/Riemann.h, PiecewiseRays.h):
+  // what CastRow and IntegrateRay give without clipping, the rays refilling
+  // the lanes across the tile's rows.
   void CastTile(int x0, int x1, int y0, int y1, ThreadStatistics& stats, RayBuffers& buffers)
   {
     const bool walks = WalksSegments(this->Map, this->Settings);
@@ -581,9 +589,27 @@ private:
         buffers.TileY[count] = y;
       }
     }
-    avos::engine::CastRiemannRays(*this->Settings.EngineVolume, *this->Settings.EngineTable,
-      this->Settings.SampleDistance, this->Settings.TerminationBound, buffers.TileRays.data(),
-      count, buffers.TileOutputs.data());
+    const Method& method = this->Settings;
+    if (method.Kind == vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE)
+    {
+      avos::engine::CastPiecewiseRays(*method.Kernels.Scalars, *method.Pieces, *method.PieceTable,
+        method.Adaptive.Tolerance, buffers.TileRays.data(), count, buffers.TilePieceOutputs.data());
+      for (std::size_t i = 0; i < count; ++i)
+      {
+        avos::engine::PiecewiseOutput& out = buffers.TilePieceOutputs[i];
+        an::RayResult<double> result;
+        result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
+        result.Statistics.Samples = out.Pieces;
+        result.Statistics.Pieces = out.Pieces;
+        result.Statistics.Cells = out.Cells;
+        result.Statistics.Rejected = out.Rejected;
+        std::swap(result.Error, out.Error);
+        this->Store(buffers.TileX[i], buffers.TileY[i], result, stats);
+      }
+      return;
+    }
+    avos::engine::CastRiemannRays(*method.EngineVolume, *method.EngineTable, method.SampleDistance,
+      method.TerminationBound, buffers.TileRays.data(), count, buffers.TileOutputs.data());
     for (std::size_t i = 0; i < count; ++i)
     {
       const avos::engine::RayOutput& out = buffers.TileOutputs[i];
@@ -656,6 +682,8 @@ public:
   avos::EngineVolume EngineScalars;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
+  avos::engine::PiecewiseTable PieceTable;
+  vtkTimeStamp PieceTableTime;
 
   // Frame: what the last image depends on.
   std::array<double, 16> Projection{};
@@ -1032,6 +1060,20 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     }
     internals.EngineTableTime.Modified();
   }
+  // The pieces' table for the piecewise method's ray-per-lane integrator,
+  // where it can read the scalars.
+  const bool pieceLanes = cellEngine && engineScalars &&
+    avos::engine::ValidatePiecewiseRays(*engineScalars, internals.Pieces).empty();
+  if (pieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
+  {
+    const std::string error = internals.PieceTable.Build(internals.Pieces);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
+      return fail();
+    }
+    internals.PieceTableTime.Modified();
+  }
 
   // Frame: camera, viewport, image size and depth buffer.
   int viewportWidth, viewportHeight, x0, y0;
@@ -1178,6 +1220,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     method.EngineVolume = engine;
     method.EngineTable = engine ? &internals.EngineTable : nullptr;
     method.Kernels = avos::engine::PieceKernels(cellEngine ? engineScalars : nullptr);
+    method.PieceTable = pieceLanes ? &internals.PieceTable : nullptr;
     if (shade)
     {
       method.Shading = &internals.Shading;
