@@ -24,42 +24,6 @@ namespace HWY_NAMESPACE
 using Cells = numerics::CellBatch<double>;
 using Tables = numerics::PiecewiseTransferFunction<double>::UnitTables;
 
-// numerics::ScalarCellKernels in lanes, for 8- or 16-bit scalars
-// (ClassifiedCell).
-template <Volume::Type Scalars>
-void CellsOf(
-  const Volume& v, const Tables& t, const double* origin, const double* direction, Cells& b)
-{
-  const hn::ScalableTag<double> d;
-  const hn::Rebind<std::int32_t, decltype(d)> di;
-  using V = hn::Vec<decltype(d)>;
-  using VI = hn::Vec<decltype(di)>;
-  const int N = static_cast<int>(hn::Lanes(d));
-  const V ox = hn::Set(d, origin[0]), oy = hn::Set(d, origin[1]), oz = hn::Set(d, origin[2]);
-  const V dx = hn::Set(d, direction[0]), dy = hn::Set(d, direction[1]),
-          dz = hn::Set(d, direction[2]);
-  for (int i = 0; i < b.Count; i += N)
-  {
-    // Lanes past Count read cell (0, 0, 0); their results are not read.
-    const auto live = hn::FirstN(di, static_cast<std::size_t>(b.Count - i));
-    const VI ci = hn::LoadU(di, b.Index[0] + i), cj = hn::LoadU(di, b.Index[1] + i),
-             ck = hn::LoadU(di, b.Index[2] + i);
-    const V tb = hn::LoadU(d, b.Begin + i);
-    const V x = hn::Sub(hn::Add(ox, hn::Mul(tb, dx)), hn::PromoteTo(d, ci));
-    const V y = hn::Sub(hn::Add(oy, hn::Mul(tb, dy)), hn::PromoteTo(d, cj));
-    const V z = hn::Sub(hn::Add(oz, hn::Mul(tb, dz)), hn::PromoteTo(d, ck));
-    const ClassifiedCell<Scalars, decltype(d), decltype(di)> cell(
-      d, di, v, t, live, ci, cj, ck, x, y, z, dx, dy, dz);
-    hn::StoreU(cell.Visible, di, b.Visible + i);
-    hn::StoreU(cell.First, di, b.First + i);
-    hn::StoreU(cell.Crossings, di, b.Crossings + i);
-    for (int k = 0; k < 4; ++k)
-    {
-      hn::StoreU(cell.K[k], d, b.K[k] + i);
-    }
-  }
-}
-
 // numerics::detail::Crossing in every lane (CrossingLanes), the cell's cubic
 // in all of them.
 void CrossingsImpl(numerics::CrossingBatch<double>& b)
@@ -85,11 +49,11 @@ void CellsImpl(
 {
   if (v.Scalars == Volume::Type::UInt8)
   {
-    CellsOf<Volume::Type::UInt8>(v, t, origin, direction, b);
+    ClassifyCells<Volume::Type::UInt8>(v, t, origin, direction, b);
   }
   else
   {
-    CellsOf<Volume::Type::UInt16>(v, t, origin, direction, b);
+    ClassifyCells<Volume::Type::UInt16>(v, t, origin, direction, b);
   }
 }
 

@@ -1,7 +1,8 @@
 // Per-target helpers of the piecewise method's cell stage, shared by the
 // batch kernels (CellKernels.cxx) and the ray-per-lane integrator
-// (PiecewiseRays.cxx): a cell per lane classified and its cubic built, and
-// numerics::detail::Crossing in lanes. Both repeat the scalar code's
+// (PiecewiseRays.cxx): a cell per lane classified and its cubic built (a
+// batch of one ray's cells at a time), and numerics::detail::Crossing in
+// lanes. Both repeat the scalar code's
 // arithmetic to the bit (no fused multiply-adds: the including files are
 // compiled with -ffp-contract=off). Highway's per-target include guard: the
 // file is re-included once per target by foreach_target.
@@ -128,6 +129,44 @@ struct ClassifiedCell
     this->K[3] = hn::Mul(hn::Mul(hn::Mul(H, dx), dy), dz);
   }
 };
+
+// numerics::ScalarCellKernels::Cells in lanes for 8- or 16-bit scalars:
+// the batch's cells of the ray origin + t direction, a cell per lane
+// (ClassifiedCell). Lanes past Count read cell (0, 0, 0); their results are
+// not read.
+template <Volume::Type Scalars>
+HWY_INLINE void ClassifyCells(const Volume& v,
+  const numerics::PiecewiseTransferFunction<double>::UnitTables& t, const double* origin,
+  const double* direction, numerics::CellBatch<double>& b)
+{
+  const hn::ScalableTag<double> d;
+  const hn::Rebind<std::int32_t, decltype(d)> di;
+  using V = hn::Vec<decltype(d)>;
+  using VI = hn::Vec<decltype(di)>;
+  const int N = static_cast<int>(hn::Lanes(d));
+  const V ox = hn::Set(d, origin[0]), oy = hn::Set(d, origin[1]), oz = hn::Set(d, origin[2]);
+  const V dx = hn::Set(d, direction[0]), dy = hn::Set(d, direction[1]),
+          dz = hn::Set(d, direction[2]);
+  for (int i = 0; i < b.Count; i += N)
+  {
+    const auto live = hn::FirstN(di, static_cast<std::size_t>(b.Count - i));
+    const VI ci = hn::LoadU(di, b.Index[0] + i), cj = hn::LoadU(di, b.Index[1] + i),
+             ck = hn::LoadU(di, b.Index[2] + i);
+    const V tb = hn::LoadU(d, b.Begin + i);
+    const V x = hn::Sub(hn::Add(ox, hn::Mul(tb, dx)), hn::PromoteTo(d, ci));
+    const V y = hn::Sub(hn::Add(oy, hn::Mul(tb, dy)), hn::PromoteTo(d, cj));
+    const V z = hn::Sub(hn::Add(oz, hn::Mul(tb, dz)), hn::PromoteTo(d, ck));
+    const ClassifiedCell<Scalars, decltype(d), decltype(di)> cell(
+      d, di, v, t, live, ci, cj, ck, x, y, z, dx, dy, dz);
+    hn::StoreU(cell.Visible, di, b.Visible + i);
+    hn::StoreU(cell.First, di, b.First + i);
+    hn::StoreU(cell.Crossings, di, b.Crossings + i);
+    for (int k = 0; k < 4; ++k)
+    {
+      hn::StoreU(cell.K[k], d, b.K[k] + i);
+    }
+  }
+}
 
 // numerics::detail::Crossing in every lane, each lane with its own cubic
 // k[0..3], value and bracket [lo, hi] (lanes with lo = hi return lo): the

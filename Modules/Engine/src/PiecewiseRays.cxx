@@ -89,10 +89,8 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
   PiecewiseOutput* out)
 {
   const hn::ScalableTag<double> d;
-  const hn::Rebind<std::int32_t, decltype(d)> di;
   const hn::RebindToSigned<decltype(d)> d64;
   using V = hn::Vec<decltype(d)>;
-  using VI = hn::Vec<decltype(di)>;
   const int N = static_cast<int>(hn::Lanes(d));
   const auto tables = tf.GetUnitTables();
   const std::vector<double>& knots = tf.GetKnots();
@@ -179,29 +177,9 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
     b.Count = 0;
     s.Taken[i] = 0;
     s.Walker[i].Fill(b, an::CellBatch<double>::Capacity);
-    const V ox = hn::Set(d, s.Origin[0][i]), oy = hn::Set(d, s.Origin[1][i]),
-            oz = hn::Set(d, s.Origin[2][i]);
-    const V dx = hn::Set(d, s.Direction[0][i]), dy = hn::Set(d, s.Direction[1][i]),
-            dz = hn::Set(d, s.Direction[2][i]);
-    for (int c = 0; c < b.Count; c += N)
-    {
-      const auto live = hn::FirstN(di, static_cast<std::size_t>(b.Count - c));
-      const VI ci = hn::LoadU(di, b.Index[0] + c), cj = hn::LoadU(di, b.Index[1] + c),
-               ck = hn::LoadU(di, b.Index[2] + c);
-      const V tb = hn::LoadU(d, b.Begin + c);
-      const V x = hn::Sub(hn::Add(ox, hn::Mul(tb, dx)), hn::PromoteTo(d, ci));
-      const V y = hn::Sub(hn::Add(oy, hn::Mul(tb, dy)), hn::PromoteTo(d, cj));
-      const V z = hn::Sub(hn::Add(oz, hn::Mul(tb, dz)), hn::PromoteTo(d, ck));
-      const ClassifiedCell<Scalars, decltype(d), decltype(di)> cell(
-        d, di, volume, tables, live, ci, cj, ck, x, y, z, dx, dy, dz);
-      hn::StoreU(cell.Visible, di, b.Visible + c);
-      hn::StoreU(cell.First, di, b.First + c);
-      hn::StoreU(cell.Crossings, di, b.Crossings + c);
-      for (int k = 0; k < 4; ++k)
-      {
-        hn::StoreU(cell.K[k], d, b.K[k] + c);
-      }
-    }
+    const double origin[3] = { s.Origin[0][i], s.Origin[1][i], s.Origin[2][i] };
+    const double direction[3] = { s.Direction[0][i], s.Direction[1][i], s.Direction[2][i] };
+    ClassifyCells<Scalars>(volume, tables, origin, direction, b);
     return b.Count;
   };
   // Lane i's next visible cell (Cell 1): from its batch, else its walk's
