@@ -640,6 +640,53 @@ TEST_P(PieceKernelsTargets, RaysPerLaneMatchOneRayAtATime)
     ae::PieceKernelsTarget(), rays, pieces, terminated, worst);
 }
 
+// What CastPiecewiseRays cannot honour is refused, every ray with the
+// reason and an empty pixel: float scalars, a transfer function without
+// unit tables or a table built from another one, a tolerance outside the
+// piecewise method's range.
+TEST_P(PieceKernelsTargets, RaysPerLaneRefuseWhatTheyCannotHonour)
+{
+  const Narrow n = NarrowCases().front();
+  const ae::Volume engine = n.Engine();
+  an::PiecewiseTransferFunction<double> tf;
+  ASSERT_EQ(tf.Build(n.TF, an::PiecewiseRelativeError(1e-3)), "");
+  ae::PiecewiseTable table;
+  ASSERT_EQ(table.Build(tf), "");
+  adversarial::Case shape;
+  std::copy(n.Dimensions, n.Dimensions + 3, shape.Dimensions);
+  const adversarial::Ray r = adversarial::MakeRay(shape, 3);
+  const an::Interval<double> whole{ 0.0, r.Length };
+  ae::RiemannRay ray;
+  for (int a = 0; a < 3; ++a)
+  {
+    ray.Origin[a] = r.Origin[a];
+    ray.Direction[a] = r.Direction[a];
+  }
+  ray.Segments = &whole;
+  ray.Count = 1;
+  auto refused = [&](const ae::Volume& volume, const ae::PiecewiseTable& t, double eps)
+  {
+    ae::PiecewiseOutput out;
+    out.RGBA[3] = 0.5; // overwritten
+    ae::CastPiecewiseRays(volume, tf, t, eps, &ray, 1, &out);
+    return !out.Error.empty() && out.RGBA[0] == 0.0 && out.RGBA[3] == 0.0;
+  };
+  ae::PiecewiseOutput out;
+  ae::CastPiecewiseRays(engine, tf, table, 1e-3, &ray, 1, &out);
+  ASSERT_EQ(out.Error, "");
+  EXPECT_GT(out.RGBA[3], 0.0);
+  ae::Volume floats = engine;
+  floats.Scalars = ae::Volume::Type::Float32;
+  EXPECT_NE(ae::ValidatePiecewiseRays(floats, tf), "");
+  EXPECT_TRUE(refused(floats, table, 1e-3));
+  EXPECT_TRUE(refused(engine, ae::PiecewiseTable(), 1e-3));
+  EXPECT_TRUE(refused(engine, table, 0.0));
+  EXPECT_TRUE(refused(engine, table, 2.0));
+  EXPECT_TRUE(refused(engine, table, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_NE(ae::ValidatePiecewiseRays(engine, an::PiecewiseTransferFunction<double>()), "");
+  EXPECT_NE(ae::PiecewiseTable().Build(an::PiecewiseTransferFunction<double>()), "");
+}
+
 // Kernels given another volume's scalars (other dimensions) leave the cells
 // to the scalar stage: the same rays as kernels given none, to the bit.
 TEST_P(PieceKernelsTargets, CellsOfAnotherVolumeAreNotRead)
