@@ -55,7 +55,18 @@ HWY_INLINE hn::Vec<D> DepthLanes(D d, const hn::Vec<D> k[4], hn::Vec<D> a, hn::V
   {
     depth[j] = hn::Zero(d);
   }
-  // c q^2 + e q^3, as PieceDepth (zero where c = e = 0).
+  // c q^2 + e q^3, as PieceDepth: none where c = e = 0 in every lane (the
+  // extinction model's pieces, linear in s), as PieceDepth leaves them out.
+  if (hn::AllTrue(d, hn::And(hn::Eq(c, hn::Zero(d)), hn::Eq(e, hn::Zero(d)))))
+  {
+    V theta = depth[4];
+    for (int j = 4; j >= 1; --j)
+    {
+      theta = hn::MulAdd(theta, l, depth[j - 1]);
+    }
+    theta = hn::IfThenElse(hn::Lt(theta, hn::Zero(d)), hn::Zero(d), theta);
+    return ExpKeepingNaN(d, hn::Neg(theta));
+  }
   const V two = hn::Set(d, 2.0);
   const V square[7] = { hn::Mul(k[0], k[0]), hn::Mul(two, hn::Mul(k[0], k[1])),
     hn::Add(hn::Mul(two, hn::Mul(k[0], k[2])), hn::Mul(k[1], k[1])),
