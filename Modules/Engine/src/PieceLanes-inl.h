@@ -73,17 +73,20 @@ HWY_INLINE hn::Vec<D> DepthLanes(D d, const hn::Vec<D> k[4], hn::Vec<D> a, hn::V
     hn::Mul(two, hn::Add(hn::Mul(k[0], k[3]), hn::Mul(k[1], k[2]))),
     hn::Add(hn::Mul(two, hn::Mul(k[1], k[3])), hn::Mul(k[2], k[2])),
     hn::Mul(two, hn::Mul(k[2], k[3])), hn::Mul(k[3], k[3]) };
+  // Degree 7 where no lane's extinction is cubic (the e terms left out).
+  const bool cubic = !hn::AllTrue(d, hn::Eq(e, hn::Zero(d)));
   for (int j = 0; j < 7; ++j)
   {
     depth[j + 1] = hn::Add(depth[j + 1], hn::Mul(hn::Mul(c, square[j]), hn::Set(d, R[j + 1])));
-    for (int m = 0; m < 4; ++m)
+    for (int m = 0; cubic && m < 4; ++m)
     {
       depth[j + m + 1] = hn::Add(
         depth[j + m + 1], hn::Mul(hn::Mul(hn::Mul(e, square[j]), k[m]), hn::Set(d, R[j + m + 1])));
     }
   }
-  V theta = depth[PieceDegree];
-  for (int j = PieceDegree; j >= 1; --j)
+  const int degree = cubic ? PieceDegree : 7;
+  V theta = depth[degree];
+  for (int j = degree; j >= 1; --j)
   {
     theta = hn::MulAdd(theta, l, depth[j - 1]);
   }
