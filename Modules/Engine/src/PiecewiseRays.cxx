@@ -43,7 +43,7 @@ struct Lanes
   // The walk over the segment.
   an::CellWalker<double> Walker[MaximumLanes];
   // The walk's cells ahead, a batch of one ray's cells classified at once
-  // (ClassifiedCell a cell per lane; their corners in neighbouring cache
+  // (ClassifyCells, a cell per lane; their corners in neighbouring cache
   // lines), and the next one to take.
   an::CellBatch<double> Batch[MaximumLanes];
   int Taken[MaximumLanes];
