@@ -115,14 +115,11 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
     {
       const std::size_t r = next++;
       const RiemannRay& ray = rays[r];
-      if (!std::isfinite(ray.Origin[0] + ray.Origin[1] + ray.Origin[2] + ray.Direction[0] +
-            ray.Direction[1] + ray.Direction[2]))
-      {
-        empty(r, "the ray's origin and direction must be finite");
-        continue;
-      }
-      std::string error = an::detail::ValidateSegments(ray.Segments, ray.Count);
-      const double L = an::detail::TotalLength(ray.Segments, ray.Count);
+      double L;
+      std::string error =
+        an::detail::ValidatePiecewiseRay(glm::dvec3(ray.Origin[0], ray.Origin[1], ray.Origin[2]),
+          glm::dvec3(ray.Direction[0], ray.Direction[1], ray.Direction[2]), ray.Segments, ray.Count,
+          L);
       if (!error.empty() || !(L > 0.0))
       {
         empty(r, std::move(error));
@@ -151,20 +148,13 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
   auto finish = [&](int i)
   {
     PiecewiseOutput& o = s.Out[i];
-    const double T = s.Transmittance[i];
     if (o.Error.empty())
     {
-      // Inside [0, 1] whatever the rounding, as IntegratePiecewise.
-      for (int c = 0; c < 3; ++c)
-      {
-        o.RGBA[c] = std::min(std::max(s.Colour[c][i], 0.0), 1.0 - T);
-      }
-      o.RGBA[3] = 1.0 - T;
-      if (!std::isfinite(o.RGBA[0] + o.RGBA[1] + o.RGBA[2] + o.RGBA[3]))
-      {
-        std::fill(o.RGBA, o.RGBA + 4, 0.0);
-        o.Error = "the integral overflowed (data or transfer-function values too large)";
-      }
+      an::RayResult<double> result;
+      an::detail::PiecewiseRGBA(
+        glm::dvec3(s.Colour[0][i], s.Colour[1][i], s.Colour[2][i]), s.Transmittance[i], result);
+      std::copy_n(&result.RGBA.x, 4, o.RGBA);
+      o.Error = std::move(result.Error);
     }
     out[s.Ray[i]] = std::move(o);
     s.Active[i] = false;
@@ -375,18 +365,19 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
       hn::Load(d, s.Q[3]) };
     const V l = hn::IfThenElseZero(emit, hn::Load(d, s.PieceLength));
     V depth[PieceDegree + 1];
-    const V E = DepthLanes(d, k, gather(0), gather(1), gather(2), gather(3), l, depth);
+    const V E = DepthLanes(d, k, gather(PiecewiseTable::Tau), gather(PiecewiseTable::TauSlope),
+      gather(PiecewiseTable::TauCurvature), gather(PiecewiseTable::TauCubic), l, depth);
     const auto monotone = hn::Or(hn::Ne(hn::Load(d, s.Monotone), zero), MonotoneLanes(d, k, l));
     const V qa = k[0];
     const V ql =
       hn::Add(k[0], hn::Mul(l, hn::Add(k[1], hn::Mul(l, hn::Add(k[2], hn::Mul(l, k[3]))))));
     const V Ta = hn::Load(d, s.Transmittance), Tb = hn::Mul(Ta, E);
-    const V cs = gather(10);
+    const V cs = gather(PiecewiseTable::ColourSlopeMaximum);
     V slope[3], colour[3];
     for (int c = 0; c < 3; ++c)
     {
-      const V C = gather(4 + c);
-      slope[c] = gather(7 + c);
+      const V C = gather(PiecewiseTable::Colour + c);
+      slope[c] = gather(PiecewiseTable::ColourSlope + c);
       const V a = hn::Mul(Ta, hn::Add(C, hn::Mul(slope[c], qa)));
       const V b = hn::Mul(Tb, hn::Add(C, hn::Mul(slope[c], ql)));
       colour[c] = hn::Load(d, s.Colour[c]);
@@ -452,22 +443,17 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
       if (s.Open[i] != 0.0)
       {
         // Not settled on the whole piece: SeriesIntegral's sub-intervals.
-        const std::size_t p = static_cast<std::size_t>(s.Piece[i]);
-        const auto& tfp = tf[p];
-        const double Tf = s.Front[i], scale = s.Scale[i], inverse = s.InverseLength[i];
-        auto allowed = [&](double Ev, double Eh, double h)
-        { return scale * (Tf * (Ev - Eh) + h * inverse); };
-        const an::Cubic<double> q{ { s.Q[0][i], s.Q[1][i], s.Q[2][i], s.Q[3][i] } };
-        const an::detail::PieceDepth<double> pd(
-          q, tfp.Tau, tfp.TauSlope, tfp.TauCurvature, tfp.TauCubic);
+        const auto& tfp = tf[static_cast<std::size_t>(s.Piece[i])];
+        const double Tf = s.Front[i];
         an::RayStatistics<double> statistics;
-        const double Jp = an::detail::SeriesIntegral(
-          pd, q, s.PieceLength[i], s.PieceTransmittance[i], allowed, statistics);
+        const double Jp = an::detail::SubintervalsJ(
+          an::Cubic<double>{ { s.Q[0][i], s.Q[1][i], s.Q[2][i], s.Q[3][i] } }, tfp,
+          s.PieceLength[i], s.PieceTransmittance[i], s.Scale[i], Tf, s.InverseLength[i],
+          statistics);
         s.Out[i].Rejected += statistics.Rejected;
         if (std::isnan(Jp))
         {
-          s.Out[i].Error = "a piece needs more than 65536 sub-intervals (data values too large "
-                           "for double precision against the transfer function's knots)";
+          s.Out[i].Error = an::detail::RefusedPieceError;
           std::fill(s.Out[i].RGBA, s.Out[i].RGBA + 4, 0.0);
           finish(i);
           take(i);
@@ -527,16 +513,16 @@ std::string PiecewiseTable::Build(const numerics::PiecewiseTransferFunction<doub
   for (std::size_t i = 0; i < n; ++i)
   {
     const auto& p = tf[i];
-    this->Columns[0][i] = p.Tau;
-    this->Columns[1][i] = p.TauSlope;
-    this->Columns[2][i] = p.TauCurvature;
-    this->Columns[3][i] = p.TauCubic;
+    this->Columns[Tau][i] = p.Tau;
+    this->Columns[TauSlope][i] = p.TauSlope;
+    this->Columns[TauCurvature][i] = p.TauCurvature;
+    this->Columns[TauCubic][i] = p.TauCubic;
     for (int c = 0; c < 3; ++c)
     {
-      this->Columns[4 + c][i] = p.Colour[c];
-      this->Columns[7 + c][i] = p.ColourSlope[c];
+      this->Columns[Colour + c][i] = p.Colour[c];
+      this->Columns[ColourSlope + c][i] = p.ColourSlope[c];
     }
-    this->Columns[10][i] = p.ColourSlopeMaximum;
+    this->Columns[ColourSlopeMaximum][i] = p.ColourSlopeMaximum;
   }
   return std::string();
 }
@@ -560,8 +546,7 @@ std::string ValidatePiecewiseRays(
       return "the volume needs at least 2 points along each axis";
     }
   }
-  const auto tables = tf.GetUnitTables();
-  if (tf.GetNumberOfPieces() == 0 || tables.Count == 0 || !(std::abs(tables.Base) < 1073741824.0))
+  if (tf.GetNumberOfPieces() == 0 || !PieceKernels::TakesTables(tf.GetUnitTables()))
   {
     return "the ray-per-lane piecewise method needs the transfer function's unit tables";
   }
@@ -577,7 +562,7 @@ void CastPiecewiseRays(const Volume& volume, const numerics::PiecewiseTransferFu
   {
     error = numerics::ValidatePiecewiseTolerance(tolerance, numerics::OpacityModel::Extinction);
   }
-  if (error.empty() && table.Columns[0].size() != tf.GetNumberOfPieces())
+  if (error.empty() && table.Columns[PiecewiseTable::Tau].size() != tf.GetNumberOfPieces())
   {
     error = "the piece table was not built from this transfer function";
   }

@@ -59,20 +59,26 @@ struct PieceKernels
   void Cells(const VolumeT& volume, const numerics::PiecewiseTransferFunction<double>& tf,
     const glm::dvec3& origin, const glm::dvec3& direction, numerics::CellBatch<double>& batch) const
   {
-    // The tables' integers in 32-bit lanes: |Base| + 65536 within them.
-    const auto tables = tf.GetUnitTables();
-    if (this->Scalars && tables.Count > 0 && std::abs(tables.Base) < 1073741824.0 &&
+    if (this->Scalars && TakesTables(tf.GetUnitTables()) &&
       volume.GetDimension(0) == this->Scalars->Dimensions[0] &&
       volume.GetDimension(1) == this->Scalars->Dimensions[1] &&
       volume.GetDimension(2) == this->Scalars->Dimensions[2])
     {
-      VectorisedCells(*this->Scalars, tables, &origin.x, &direction.x, batch);
+      VectorisedCells(*this->Scalars, tf.GetUnitTables(), &origin.x, &direction.x, batch);
       return;
     }
     numerics::ScalarCellKernels<double>().Cells(volume, tf, origin, direction, batch);
   }
 
   const Volume* Scalars = nullptr;
+
+  // Whether the cells' kernel classifies ranges from `tables`: the
+  // transfer function has them, and their integers fit 32-bit lanes
+  // (|Base| + 65536 within them).
+  static bool TakesTables(const numerics::PiecewiseTransferFunction<double>::UnitTables& tables)
+  {
+    return tables.Count > 0 && std::abs(tables.Base) < 1073741824.0;
+  }
 
 private:
   static void VectorisedCells(const Volume& scalars,

@@ -36,7 +36,8 @@
 #ifndef avos_engine_PiecewiseRays_h
 #define avos_engine_PiecewiseRays_h
 
-#include "avos/engine/Riemann.h" // Volume, RiemannRay
+#include "avos/engine/PieceKernels.h" // TakesTables
+#include "avos/engine/Riemann.h"      // Volume, RiemannRay
 #include "avos/numerics/PiecewiseIntegrator.h"
 
 #include <cstddef>
@@ -49,15 +50,25 @@ namespace engine
 {
 
 // The pieces of a numerics::PiecewiseTransferFunction as the lanes gather
-// them, a column per coefficient indexed by piece: tau's four (Tau,
-// TauSlope, TauCurvature, TauCubic), the colour's three, its slope's three,
-// and the slope's largest magnitude.
+// them, a column per coefficient indexed by piece: tau's four, the colour's
+// three (Colour + c), its slope's three and the slope's largest magnitude.
 struct PiecewiseTable
 {
   // From a built transfer function; empty on success, else why.
   std::string Build(const numerics::PiecewiseTransferFunction<double>& tf);
 
-  std::vector<double> Columns[11];
+  enum Column
+  {
+    Tau,
+    TauSlope,
+    TauCurvature,
+    TauCubic,
+    Colour,
+    ColourSlope = Colour + 3,
+    ColourSlopeMaximum = ColourSlope + 3,
+    ColumnCount
+  };
+  std::vector<double> Columns[ColumnCount];
 };
 
 struct PiecewiseOutput

@@ -414,6 +414,55 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
   }
   return J;
 }
+
+// Empty when the ray origin + t direction over `segments` can be
+// integrated, else why; L its visible length (nothing to integrate unless
+// positive).
+template <typename Real>
+std::string ValidatePiecewiseRay(const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count, Real& L)
+{
+  L = Real(0);
+  if (!std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z))
+  {
+    return "the ray's origin and direction must be finite";
+  }
+  L = TotalLength(segments, count);
+  return ValidateSegments(segments, count);
+}
+
+// Why a ray's piece was refused: SubintervalsJ gave NaN.
+constexpr const char* RefusedPieceError =
+  "a piece needs more than 65536 sub-intervals (data values too large for double precision "
+  "against the transfer function's knots)";
+
+// J on the piece [0, l] (q, in transfer-function piece p, e^{-theta(l)} = E)
+// that its first sub-interval did not settle: SeriesIntegral's
+// sub-intervals, [v, v + h] allowed scale (front (Ev - Eh) + h inverseL)
+// (see above); NaN when refused.
+template <typename Real>
+Real SubintervalsJ(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
+  Real l, Real E, Real scale, Real front, Real inverseL, RayStatistics<Real>& stats)
+{
+  auto allowed = [&](Real Ev, Real Eh, Real h)
+  { return scale * (front * (Ev - Eh) + h * inverseL); };
+  const PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
+  return SeriesIntegral(depth, q, l, E, allowed, stats);
+}
+
+// A ray's RGBA from its colour and transmittance T: each channel inside [0,
+// 1 - T] whatever the rounding (a sum of non-negative contributions bounded
+// by 1 - T); none when not finite (RequireFinite).
+template <typename Real>
+void PiecewiseRGBA(glm::vec<3, Real> color, Real T, RayResult<Real>& result)
+{
+  for (int c = 0; c < 3; ++c)
+  {
+    color[c] = std::min(std::max(color[c], Real(0)), Real(1) - T);
+  }
+  result.RGBA = glm::vec<4, Real>(color, Real(1) - T);
+  RequireFinite(result);
+}
 } // namespace detail
 
 // The pieces of one ray, integrated a batch at a time: structures of arrays,
@@ -599,13 +648,8 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       return result;
     }
   }
-  if (!std::isfinite(origin.x + origin.y + origin.z + direction.x + direction.y + direction.z))
-  {
-    result.Error = "the ray's origin and direction must be finite";
-    return result;
-  }
-  result.Error = detail::ValidateSegments(segments, count);
-  const Real L = detail::TotalLength(segments, count);
+  Real L;
+  result.Error = detail::ValidatePiecewiseRay(origin, direction, segments, count, L);
   if (!result.Error.empty() || !(L > Real(0)))
   {
     return result;
@@ -706,15 +750,11 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
       else
       {
         // Not settled on the whole piece: sub-intervals.
-        auto allowed = [&](Real Ev, Real Eh, Real h)
-        { return scale * (Ta * (Ev - Eh) + h * inverseL); };
-        const Cubic<Real> q = batch.CubicAt(i);
-        const detail::PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
-        J = detail::SeriesIntegral(depth, q, l, series.Transmittance[j], allowed, stats);
+        J = detail::SubintervalsJ(
+          batch.CubicAt(i), p, l, series.Transmittance[j], scale, Ta, inverseL, stats);
         if (std::isnan(J))
         {
-          result.Error = "a piece needs more than 65536 sub-intervals (data values too large "
-                         "for double precision against the transfer function's knots)";
+          result.Error = detail::RefusedPieceError;
           stopped = true;
           break;
         }
@@ -765,14 +805,7 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
   {
     return result; // a refused piece: no value
   }
-  // Inside [0, 1] whatever the rounding: each channel is a sum of
-  // non-negative contributions bounded by 1 - T.
-  for (int c = 0; c < 3; ++c)
-  {
-    color[c] = std::min(std::max(color[c], Real(0)), Real(1) - T);
-  }
-  result.RGBA = glm::vec<4, Real>(color, Real(1) - T);
-  detail::RequireFinite(result);
+  detail::PiecewiseRGBA(color, T, result);
   return result;
 }
 
