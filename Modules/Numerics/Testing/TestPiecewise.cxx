@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -726,4 +727,65 @@ TEST(Piecewise, LocateEqualsBinarySearch)
       ASSERT_EQ(p.LocateNear(std::nan(""), guess), p.Locate(std::nan(""))) << guess;
     }
   }
+}
+
+// CellWalker::Fill (branch-free steps, in batches that resume) visits Next's
+// cells with Next's bounds, to the bit: rays from inside and outside the
+// box, with zero direction components, through grid points and edges (ties
+// between axes), and batch limits from 1 to the batch's capacity.
+TEST(Piecewise, CellWalkerFillEqualsNext)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> position(-1.0, 12.0), component(-1.0, 1.0), span(0.0, 40.0);
+  std::uniform_int_distribution<int> limits(1, an::CellBatch<double>::Capacity), pick(0, 5);
+  long cells = 0;
+  for (int r = 0; r < 20000; ++r)
+  {
+    const int dims[3] = { 2 + r % 31, 2 + (r / 31) % 5, 2 + (r / 155) % 17 };
+    glm::dvec3 origin(position(rng), position(rng), position(rng));
+    glm::dvec3 direction(component(rng), component(rng), component(rng));
+    switch (pick(rng))
+    {
+      case 0: // through grid points: ties between all three axes
+        origin = glm::floor(origin);
+        direction = glm::dvec3(1.0, -1.0, 1.0) * std::abs(direction.x);
+        break;
+      case 1: // along an edge: ties between two axes, one component zero
+        origin = glm::dvec3(std::floor(origin.x), std::floor(origin.y), origin.z);
+        direction = glm::dvec3(direction.x, direction.x, 0.0);
+        break;
+      case 2: // along an axis
+        direction = glm::dvec3(0.0, 0.0, direction.z);
+        break;
+      default:
+        break;
+    }
+    const double tBegin = -0.5 * span(rng), tEnd = span(rng);
+    an::CellWalker<double> next(dims, origin, direction, tBegin, tEnd);
+    an::CellWalker<double> fill = next;
+    std::vector<std::array<double, 5>> expected, found;
+    int cell[3] = { 0, 0, 0 };
+    double t0 = 0.0, t1 = 0.0;
+    while (next.Next(cell, t0, t1))
+    {
+      expected.push_back({ double(cell[0]), double(cell[1]), double(cell[2]), t0, t1 });
+    }
+    an::CellBatch<double> batch;
+    for (;;)
+    {
+      batch.Count = 0;
+      if (fill.Fill(batch, limits(rng)) == 0)
+      {
+        break;
+      }
+      for (int c = 0; c < batch.Count; ++c)
+      {
+        found.push_back({ double(batch.Index[0][c]), double(batch.Index[1][c]),
+          double(batch.Index[2][c]), batch.Begin[c], batch.End[c] });
+      }
+    }
+    ASSERT_EQ(found, expected) << "ray " << r;
+    cells += static_cast<long>(found.size());
+  }
+  EXPECT_GT(cells, 4 * 20000); // the rays do cross the boxes
 }

@@ -746,10 +746,9 @@ AVOS_NUMERICS_INLINE int StretchBounds(const Cubic<Real>& s, Real length, Real b
 
 // The cells the ray origin + t direction (grid coordinates, t in the
 // caller's units) crosses over [tBegin, tEnd], inside the box of a volume of
-// `dimensions` points, in order (Amanatides and Woo's traversal), a cell at
-// a time: Next gives the next cell with a part [t0, t1] (t1 > t0) of the
-// ray inside it, false once none is left. At most nx + ny + nz + 3 steps;
-// none for a non-finite ray.
+// `dimensions` points (at least 2 on every axis), in order (Amanatides and Woo's traversal), a cell
+// at a time: Next gives the next cell with a part [t0, t1] (t1 > t0) of the ray inside it, false
+// once none is left. At most nx + ny + nz + 3 steps; none for a non-finite ray.
 template <typename Real>
 class CellWalker
 {
@@ -829,48 +828,64 @@ public:
   }
 
   // Next's cells appended to `batch` (its Index, Begin, End: a CellBatch)
-  // until it holds `limit`; how many were appended (0: none is left).
+  // until it holds `limit` (at most its capacity); how many were appended
+  // (0: none is left).
   template <typename Batch>
   AVOS_NUMERICS_INLINE int Fill(Batch& batch, int limit)
   {
-    // The state in locals over the loop (kept in registers).
-    int index[3] = { this->Index[0], this->Index[1], this->Index[2] };
-    Real tMax[3] = { this->TMax[0], this->TMax[1], this->TMax[2] };
+    // Next's steps without branches on the axis (the ray's axis order looks
+    // random to a branch predictor): the state in locals (registers), the
+    // axis as three flags, the cell written at every step and kept when it
+    // has a part of the ray.
+    int i0 = this->Index[0], i1 = this->Index[1], i2 = this->Index[2];
+    Real m0 = this->TMax[0], m1 = this->TMax[1], m2 = this->TMax[2];
+    const Real d0 = this->TDelta[0], d1 = this->TDelta[1], d2 = this->TDelta[2];
+    const int s0 = this->Step[0], s1 = this->Step[1], s2 = this->Step[2];
+    const unsigned n0 = static_cast<unsigned>(this->N[0]), n1 = static_cast<unsigned>(this->N[1]),
+                   n2 = static_cast<unsigned>(this->N[2]);
+    const Real tEnd = this->TEnd;
     Real t = this->T;
     int left = this->Left;
-    const int before = batch.Count;
-    while (batch.Count < limit && left > 0 && t < this->TEnd)
+    int c = batch.Count;
+    const int before = c;
+    while (c < limit && left > 0 && t < tEnd)
     {
       --left;
-      const int axis =
-        tMax[0] <= tMax[1] ? (tMax[0] <= tMax[2] ? 0 : 2) : (tMax[1] <= tMax[2] ? 1 : 2);
-      const Real end = std::min(tMax[axis], this->TEnd);
-      if (end > t)
-      {
-        const int c = batch.Count++;
-        for (int a = 0; a < 3; ++a)
-        {
-          batch.Index[a][c] = index[a];
-        }
-        batch.Begin[c] = t;
-        batch.End[c] = end;
-      }
+      // Next's choice: the first axis whose boundary is nearest.
+      const bool x = (m0 <= m1) & (m0 <= m2);
+      const bool y = !x & (m1 <= m2);
+      const bool z = !x & !y;
+      const Real end = std::min(x ? m0 : (y ? m1 : m2), tEnd);
+      batch.Index[0][c] = i0;
+      batch.Index[1][c] = i1;
+      batch.Index[2][c] = i2;
+      batch.Begin[c] = t;
+      batch.End[c] = end;
+      c += end > t ? 1 : 0;
       t = std::max(t, end);
-      index[axis] += this->Step[axis];
-      if (index[axis] < 0 || index[axis] >= this->N[axis])
+      i0 += x ? s0 : 0;
+      i1 += y ? s1 : 0;
+      i2 += z ? s2 : 0;
+      m0 = x ? m0 + d0 : m0;
+      m1 = y ? m1 + d1 : m1;
+      m2 = z ? m2 + d2 : m2;
+      // Only the stepped axis can leave the box (the others were inside).
+      if ((static_cast<unsigned>(i0) >= n0) | (static_cast<unsigned>(i1) >= n1) |
+        (static_cast<unsigned>(i2) >= n2))
       {
         left = 0;
       }
-      else
-      {
-        tMax[axis] += this->TDelta[axis];
-      }
     }
-    std::copy(index, index + 3, this->Index);
-    std::copy(tMax, tMax + 3, this->TMax);
+    batch.Count = c;
+    this->Index[0] = i0;
+    this->Index[1] = i1;
+    this->Index[2] = i2;
+    this->TMax[0] = m0;
+    this->TMax[1] = m1;
+    this->TMax[2] = m2;
     this->T = t;
     this->Left = left;
-    return batch.Count - before;
+    return c - before;
   }
 
 private:
