@@ -32,8 +32,8 @@ namespace an = numerics;
 constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(double);
 
 // The lanes' state, structures of arrays: lane i runs ray Ray[i]. What
-// the vector stages load and store is aligned, in double (indices below
-// 2^53 are exact there); the walk is each lane's own, a lane at a time.
+// the vector stages load and store is aligned; the rest is each lane's own,
+// read and written a lane at a time.
 struct Lanes
 {
   // The ray, and its segment being walked.
@@ -48,26 +48,16 @@ struct Lanes
   an::CellBatch<double> Batch[MaximumLanes];
   int Taken[MaximumLanes];
   // The cell: Cell 0 none, 1 taken (visible), 2 being cut.
-  alignas(64) double Cell[MaximumLanes];
-  alignas(64) double First[MaximumLanes];
-  alignas(64) double Crossings[MaximumLanes];
+  int Cell[MaximumLanes], First[MaximumLanes], Crossings[MaximumLanes];
   alignas(64) double K[4][MaximumLanes];
-  alignas(64) double Length[MaximumLanes];
-  // The cut of a cell with crossings (numerics::detail::Stretch): its
-  // stretches' bounds and their count, the stretch's index, ends [A, B],
-  // direction (Rising 1) and knots (K0, K1, Inside), the next useful
-  // sub-piece J and where it starts (U).
-  alignas(64) double Bounds[4][MaximumLanes];
-  alignas(64) double BoundCount[MaximumLanes];
-  alignas(64) double StretchIndex[MaximumLanes];
-  alignas(64) double A[MaximumLanes];
-  alignas(64) double B[MaximumLanes];
-  alignas(64) double Rising[MaximumLanes];
-  alignas(64) double K0[MaximumLanes];
-  alignas(64) double K1[MaximumLanes];
-  alignas(64) double Inside[MaximumLanes];
-  alignas(64) double J[MaximumLanes];
-  alignas(64) double U[MaximumLanes];
+  double Length[MaximumLanes];
+  // The cut of a cell with crossings: its stretches' bounds, the stretch,
+  // the next useful sub-piece J and where it starts (U).
+  double Bounds[MaximumLanes][4];
+  int BoundCount[MaximumLanes], StretchIndex[MaximumLanes];
+  an::detail::Stretch<double> Stretch[MaximumLanes];
+  std::size_t J[MaximumLanes];
+  double U[MaximumLanes];
   // A crossing to find (Seek 1): knot Value on [Lo, Hi]; Root out.
   alignas(64) double Seek[MaximumLanes];
   alignas(64) double Value[MaximumLanes];
@@ -79,7 +69,7 @@ struct Lanes
   alignas(64) double Emit[MaximumLanes];
   alignas(64) double Q[4][MaximumLanes];
   alignas(64) double PieceLength[MaximumLanes];
-  alignas(64) double Piece[MaximumLanes];
+  alignas(64) std::int64_t Piece[MaximumLanes];
   alignas(64) double Monotone[MaximumLanes];
   // The integral so far, 1 / the ray's visible length, and what a lane's
   // series left to SeriesIntegral needs (its share's scale, transmittances).
@@ -93,103 +83,6 @@ struct Lanes
   PiecewiseOutput Out[MaximumLanes];
 };
 
-// The cut's decisions in lanes, each the scalar code's to the bit (the
-// same comparisons on the same doubles): numerics::Cubic, the knot
-// searches of numerics::PiecewiseTransferFunction from its unit tables,
-// and numerics::detail::Stretch's Useful and SubPiece, reading the
-// PiecewiseTable's Start, Visible, NextVisible and PreviousVisibleEnd.
-template <class D>
-struct CutLanes
-{
-  using V = hn::Vec<D>;
-  using M = hn::Mask<D>;
-  const D d;
-  const hn::RebindToSigned<D> d64;
-  const hn::Rebind<std::int32_t, D> di;
-  const double* Knots;
-  const PiecewiseTable& Table;
-  const an::PiecewiseTransferFunction<double>::UnitTables Units;
-  const V Zero, One, KnotCount, Base, LastUnit;
-
-  CutLanes(const an::PiecewiseTransferFunction<double>& tf, const PiecewiseTable& table)
-    : Knots(tf.GetKnots().data())
-    , Table(table)
-    , Units(tf.GetUnitTables())
-    , Zero(hn::Zero(d))
-    , One(hn::Set(d, 1.0))
-    , KnotCount(hn::Set(d, static_cast<double>(tf.GetKnots().size())))
-    , Base(hn::Set(d, Units.Base))
-    , LastUnit(hn::Set(d, static_cast<double>(Units.Count) - 1.0))
-  {
-  }
-
-  // std::min and std::max: the second argument only where it compares
-  // below (above) the first.
-  static V Least(V a, V b) { return hn::IfThenElse(hn::Lt(b, a), b, a); }
-  static V Most(V a, V b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }
-  // Cubic::operator() and Cubic::Shifted, operation for operation.
-  static V At(const V k[4], V u)
-  {
-    return hn::Add(k[0], hn::Mul(u, hn::Add(k[1], hn::Mul(u, hn::Add(k[2], hn::Mul(u, k[3]))))));
-  }
-  void Shifted(const V k[4], V u, V q[4]) const
-  {
-    const V three = hn::Set(d, 3.0);
-    q[0] = At(k, u);
-    q[1] = hn::Add(
-      k[1], hn::Mul(u, hn::Add(hn::Mul(hn::Set(d, 2.0), k[2]), hn::Mul(hn::Mul(u, three), k[3]))));
-    q[2] = hn::Add(k[2], hn::Mul(hn::Mul(three, k[3]), u));
-    q[3] = k[3];
-  }
-  // Table column c at the pieces `index` (lanes outside m read piece 0).
-  V Column(int c, M m, V index) const
-  {
-    return hn::GatherIndex(
-      d, this->Table.Columns[c].data(), hn::ConvertTo(d64, hn::IfThenElseZero(m, index)));
-  }
-  V Knot(M m, V index) const
-  {
-    return hn::GatherIndex(d, this->Knots, hn::ConvertTo(d64, hn::IfThenElseZero(m, index)));
-  }
-  // Locate(x) (below false: knots <= x) or CountBelow(x) (below true:
-  // knots < x) in lanes m: the unit tables' answer at floor(x), exact
-  // (x - Base is exact for integer Base and |x| < 2^52), then the knots up
-  // to x, at most those of one unit. NaN gives 0, as Locate does.
-  V Search(M m, V x, bool below) const
-  {
-    const V unit = hn::Floor(hn::Sub(x, this->Base));
-    const auto inside = hn::And(m, hn::And(hn::Ge(unit, this->Zero), hn::Le(unit, this->LastUnit)));
-    const auto* table =
-      reinterpret_cast<const std::int32_t*>(below ? this->Units.Below : this->Units.Upper);
-    const V counted = hn::PromoteTo(
-      d, hn::GatherIndex(di, table, hn::DemoteTo(di, hn::IfThenElseZero(inside, unit))));
-    V i = hn::IfThenElse(
-      inside, counted, hn::IfThenElseZero(hn::Gt(unit, this->LastUnit), this->KnotCount));
-    auto open = hn::And(m, hn::Lt(i, this->KnotCount));
-    while (!hn::AllFalse(d, open))
-    {
-      const V k = this->Knot(open, i);
-      open = hn::And(open, below ? hn::Lt(k, x) : hn::Le(k, x));
-      i = hn::IfThenElse(open, hn::Add(i, this->One), i);
-      open = hn::And(open, hn::Lt(i, this->KnotCount));
-    }
-    return i;
-  }
-  // PiecewiseTransferFunction::LocateNear(x, guess) in lanes m.
-  V LocateNear(M m, V x, V guess) const
-  {
-    const auto lower = hn::Gt(guess, this->Zero);
-    const auto upper = hn::Lt(guess, this->KnotCount);
-    const V before = this->Knot(hn::And(m, lower), hn::Sub(guess, this->One));
-    const V after = this->Knot(hn::And(m, upper), guess);
-    const auto near =
-      hn::And(hn::Or(hn::Not(lower), hn::Le(before, x)), hn::Or(hn::Not(upper), hn::Lt(x, after)));
-    const auto far = hn::AndNot(near, m);
-    return hn::AllFalse(d, far) ? guess : hn::IfThenElse(far, this->Search(far, x, false), guess);
-  }
-  V Visible(M m, V piece) const { return this->Column(PiecewiseTable::Visible, m, piece); }
-};
-
 template <Volume::Type Scalars>
 void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>& tf,
   const PiecewiseTable& table, double tolerance, const RiemannRay* rays, std::size_t count,
@@ -198,12 +91,11 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> d64;
   using V = hn::Vec<decltype(d)>;
-  using M = hn::Mask<decltype(d)>;
   const int N = static_cast<int>(hn::Lanes(d));
   const auto tables = tf.GetUnitTables();
+  const std::vector<double>& knots = tf.GetKnots();
   const double budget = 0.6 * tolerance;
   const double terminationBound = 0.15 * tolerance / std::max(1.0, tf.GetMaximumColor());
-  const CutLanes<decltype(d)> cl(tf, table);
 
   Lanes s{};
   std::size_t next = 0; // the next ray to take
@@ -245,7 +137,7 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
       s.Transmittance[i] = 1.0;
       s.InverseLength[i] = 1.0 / L;
       s.Walker[i] = an::CellWalker<double>();
-      s.Cell[i] = 0.0;
+      s.Cell[i] = 0;
       s.Batch[i].Count = 0;
       s.Taken[i] = 0;
       s.Out[i] = PiecewiseOutput();
@@ -266,7 +158,6 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
     }
     out[s.Ray[i]] = std::move(o);
     s.Active[i] = false;
-    s.Cell[i] = 0.0;
   };
   // Up to a batch of lane i's next cells, classified with their cubics
   // (ClassifiedCell, a cell per lane); how many (0: the walk is spent).
@@ -301,8 +192,7 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
           s.Length[i] = b.End[c] - b.Begin[c];
           s.First[i] = b.First[c];
           s.Crossings[i] = b.Crossings[c];
-          s.Cell[i] = 1.0;
-          ++s.Out[i].Cells;
+          s.Cell[i] = 1;
           return;
         }
       }
@@ -323,183 +213,63 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
       take(i);
     }
   };
-  // The vector stages' state, kept in registers: a masked store followed
-  // by a full load of the same lanes cannot be forwarded and stalls.
-  struct State
+  // The cut of lane i's cell from stretch b on.
+  auto stretch = [&](int i, int b)
   {
-    V Cell, K[4], Length, First, Crossings;
-    V Bounds[4], BoundCount, StretchIndex, A, B, Rising, K0, K1, Inside, J, U;
-    V Seek, Value, Lo, Hi;
-    V Emit, Q[4], PieceLength, Piece, Monotone;
-  } v;
-  {
-    const V z = hn::Zero(d);
-    v.Cell = v.Length = v.First = v.Crossings = v.BoundCount = v.StretchIndex = v.A = v.B = z;
-    v.Rising = v.K0 = v.K1 = v.Inside = v.J = v.U = v.Seek = v.Value = v.Lo = v.Hi = z;
-    v.Emit = v.PieceLength = v.Piece = v.Monotone = z;
-    for (int k = 0; k < 4; ++k)
-    {
-      v.K[k] = v.Bounds[k] = v.Q[k] = z;
-    }
-  }
-  // Stretch::Useful(j) in lanes m, for their stretches.
-  auto useful = [&](M m, V j)
-  {
-    const V none = hn::Add(v.Inside, cl.One);
-    const auto rising = hn::Ne(v.Rising, cl.Zero);
-    const auto among = hn::And(m, hn::And(hn::Gt(v.Inside, cl.Zero), hn::Le(j, v.Inside)));
-    // Pieces K0 + j on, ascending: the next visible one p; pieces K1 - j
-    // down, descending: one past the previous visible one.
-    const V p = cl.Column(PiecewiseTable::NextVisible, hn::And(among, rising), hn::Add(v.K0, j));
-    const V up = hn::IfThenElse(hn::Gt(p, v.K1), none,
-      hn::IfThenElse(hn::Gt(hn::Sub(p, v.K0), j), hn::Sub(hn::Sub(p, v.K0), cl.One), j));
-    const V end =
-      cl.Column(PiecewiseTable::PreviousVisibleEnd, hn::AndNot(rising, among), hn::Sub(v.K1, j));
-    const V q = hn::Sub(v.K1, hn::Sub(end, cl.One));
-    const V down =
-      hn::IfThenElse(hn::Le(end, v.K0), none, hn::IfThenElse(hn::Gt(q, j), hn::Sub(q, cl.One), j));
-    return hn::IfThenElse(
-      among, hn::IfThenElse(rising, up, down), hn::IfThenElse(hn::Eq(v.Inside, cl.Zero), j, none));
+    const an::Cubic<double> c{ { s.K[0][i], s.K[1][i], s.K[2][i], s.K[3][i] } };
+    s.StretchIndex[i] = b;
+    s.Stretch[i] = an::detail::Stretch<double>(c, s.Bounds[i][b], s.Bounds[i][b + 1], tf);
+    s.J[i] = s.Stretch[i].Useful(tf, 0);
+    s.U[i] = s.Stretch[i].A;
   };
-  // Stretch `index` of lanes m's cells, its first useful sub-piece.
-  auto stretch = [&](M m, V index)
+  // Lane i's next sub-piece of its cell (PieceWalk's cut): whether a
+  // crossing is to be found first (Seek). Cell 0 once the cell is spent.
+  auto seek = [&](int i)
   {
-    const auto first = hn::Eq(index, cl.Zero), second = hn::Eq(index, cl.One);
-    const V a =
-      hn::IfThenElse(first, v.Bounds[0], hn::IfThenElse(second, v.Bounds[1], v.Bounds[2]));
-    const V b =
-      hn::IfThenElse(first, v.Bounds[1], hn::IfThenElse(second, v.Bounds[2], v.Bounds[3]));
-    const V sa = cl.At(v.K, a), sb = cl.At(v.K, b);
-    const V k0 = cl.Search(m, cl.Least(sa, sb), false);
-    const V k1 = cl.Search(m, cl.Most(sa, sb), true);
-    v.StretchIndex = hn::IfThenElse(m, index, v.StretchIndex);
-    v.A = hn::IfThenElse(m, a, v.A);
-    v.B = hn::IfThenElse(m, b, v.B);
-    v.U = hn::IfThenElse(m, a, v.U);
-    v.Rising = hn::IfThenElse(m, hn::IfThenElseZero(hn::Ge(sb, sa), cl.One), v.Rising);
-    v.K0 = hn::IfThenElse(m, k0, v.K0);
-    v.K1 = hn::IfThenElse(m, k1, v.K1);
-    v.Inside = hn::IfThenElse(m, hn::IfThenElseZero(hn::Gt(k1, k0), hn::Sub(k1, k0)), v.Inside);
-    v.J = hn::IfThenElse(m, useful(m, cl.Zero), v.J);
-  };
-  // Lanes m's newly taken cells with crossings: their monotone stretches
-  // (StretchBounds; Extrema's shortcut in lanes, its roots a lane at a
-  // time) and the first stretch.
-  auto cutCells = [&](M m)
-  {
-    const V l = v.Length;
-    const V rest = hn::Add(hn::Mul(hn::Mul(hn::Set(d, 2.0), hn::Abs(v.K[2])), l),
-      hn::Mul(hn::Mul(hn::Mul(hn::Set(d, 3.0), hn::Abs(v.K[3])), l), l));
-    const auto monotone = hn::Gt(hn::Abs(v.K[1]), hn::Mul(hn::Set(d, 2.0), rest));
-    v.Bounds[0] = hn::IfThenElse(m, cl.Zero, v.Bounds[0]);
-    v.Bounds[1] = hn::IfThenElse(m, l, v.Bounds[1]);
-    v.BoundCount = hn::IfThenElse(m, hn::Set(d, 2.0), v.BoundCount);
-    const auto roots = hn::AndNot(monotone, m);
-    if (!hn::AllFalse(d, roots))
+    s.Seek[i] = 0.0;
+    while (s.J[i] > s.Stretch[i].Inside)
     {
-      alignas(64) double lanes[MaximumLanes];
-      hn::Store(hn::IfThenElseZero(roots, cl.One), d, lanes);
-      for (int i = 0; i < N; ++i)
+      if (s.StretchIndex[i] + 2 >= s.BoundCount[i])
       {
-        if (lanes[i] != 0.0)
-        {
-          // nextCell left the cell in the arrays.
-          const an::Cubic<double> c{ { s.K[0][i], s.K[1][i], s.K[2][i], s.K[3][i] } };
-          double bounds[4];
-          const int n = an::detail::StretchBounds(c, s.Length[i], bounds);
-          for (int b = 0; b < n; ++b)
-          {
-            s.Bounds[b][i] = bounds[b];
-          }
-          s.BoundCount[i] = n;
-        }
+        s.Cell[i] = 0;
+        return;
       }
-      for (int b = 0; b < 4; ++b)
-      {
-        v.Bounds[b] = hn::IfThenElse(roots, hn::Load(d, s.Bounds[b]), v.Bounds[b]);
-      }
-      v.BoundCount = hn::IfThenElse(roots, hn::Load(d, s.BoundCount), v.BoundCount);
+      stretch(i, s.StretchIndex[i] + 1);
     }
-    stretch(m, cl.Zero);
-  };
-  // Lanes m's next sub-piece (PieceWalk's cut): past the stretches without
-  // one (Cell 0 where the cell is spent), then the crossing to seek.
-  auto seek = [&](M m)
-  {
-    for (;;)
+    const an::detail::Stretch<double>& st = s.Stretch[i];
+    if (s.J[i] < st.Inside)
     {
-      const auto past = hn::And(m, hn::Gt(v.J, v.Inside));
-      if (hn::AllFalse(d, past))
-      {
-        break;
-      }
-      const auto spent =
-        hn::And(past, hn::Ge(hn::Add(v.StretchIndex, hn::Set(d, 2.0)), v.BoundCount));
-      v.Cell = hn::IfThenElse(spent, cl.Zero, v.Cell);
-      m = hn::AndNot(spent, m);
-      const auto more = hn::AndNot(spent, past);
-      if (!hn::AllFalse(d, more))
-      {
-        stretch(more, hn::Add(v.StretchIndex, cl.One));
-      }
+      s.Seek[i] = 1.0;
+      s.Value[i] = st.Value(knots, s.J[i]);
+      s.Lo[i] = st.A;
+      s.Hi[i] = st.B;
     }
-    const auto sought = hn::And(m, hn::Lt(v.J, v.Inside));
-    const auto rising = hn::Ne(v.Rising, cl.Zero);
-    const V at = hn::IfThenElse(rising, hn::Add(v.K0, v.J), hn::Sub(hn::Sub(v.K1, cl.One), v.J));
-    v.Seek = hn::IfThenElse(m, hn::IfThenElseZero(sought, cl.One), v.Seek);
-    v.Value = hn::IfThenElse(sought, cl.Knot(sought, at), v.Value);
-    v.Lo = hn::IfThenElse(sought, v.A, v.Lo);
-    v.Hi = hn::IfThenElse(sought, v.B, v.Hi);
   };
-  // Lanes m's sub-piece up to the crossing `root` (or the stretch's end)
-  // (Stretch::SubPiece): the piece to integrate where it is visible.
-  auto cut = [&](M m, V root)
+  // Lane i's sub-piece up to the crossing (or the stretch's end): the piece
+  // to integrate where it is visible.
+  auto cut = [&](int i)
   {
-    const V j = v.J, u = v.U;
-    const auto rising = hn::Ne(v.Rising, cl.Zero);
-    const V pieceAt = hn::IfThenElse(rising, hn::Add(v.K0, j), hn::Sub(v.K1, j));
-    const auto crossed = hn::Lt(j, v.Inside);
-    const auto visible =
-      hn::And(m, hn::Or(hn::Eq(v.Inside, cl.Zero), hn::Ne(cl.Visible(m, pieceAt), cl.Zero)));
-    // Rounding may put a root before the one of the knot before.
-    const V end = hn::IfThenElse(crossed, cl.Least(cl.Most(root, u), v.B), v.B);
-    const auto open = hn::And(visible, hn::Gt(end, u));
-    if (!hn::AllFalse(d, open))
+    const an::detail::Stretch<double>& st = s.Stretch[i];
+    const std::size_t j = s.J[i];
+    const double u = s.U[i];
+    const an::Cubic<double> c{ { s.K[0][i], s.K[1][i], s.K[2][i], s.K[3][i] } };
+    double end;
+    std::size_t piece;
+    if (st.SubPiece(tf, c, j, u, s.Root[i], end, piece))
     {
-      // The transfer-function piece from the scalar in the middle: robust
-      // where a crossing rounds onto a knot.
-      const V piece =
-        cl.LocateNear(open, cl.At(v.K, hn::Mul(hn::Set(d, 0.5), hn::Add(u, end))), pieceAt);
-      const auto emit = hn::And(open, hn::Ne(cl.Visible(open, piece), cl.Zero));
-      V q[4];
-      cl.Shifted(v.K, u, q);
-      q[0] = hn::Sub(q[0], cl.Column(PiecewiseTable::Start, emit, piece));
-      for (int c = 0; c < 4; ++c)
+      an::Cubic<double> q = c.Shifted(u);
+      q.K[0] -= tf[piece].Start;
+      for (int k = 0; k < 4; ++k)
       {
-        v.Q[c] = hn::IfThenElse(emit, q[c], v.Q[c]);
+        s.Q[k][i] = q.K[k];
       }
-      v.PieceLength = hn::IfThenElse(emit, hn::Sub(end, u), v.PieceLength);
-      v.Piece = hn::IfThenElse(emit, piece, v.Piece);
-      v.Monotone = hn::IfThenElse(emit, cl.One, v.Monotone);
-      v.Emit = hn::IfThenElse(emit, cl.One, v.Emit);
+      s.PieceLength[i] = end - u;
+      s.Piece[i] = static_cast<std::int64_t>(piece);
+      s.Monotone[i] = 1.0;
+      s.Emit[i] = 1.0;
     }
-    v.U = hn::IfThenElse(m, cl.Most(u, end), v.U);
-    v.J = hn::IfThenElse(m, useful(m, hn::Add(j, cl.One)), v.J);
-  };
-  // Lanes m's cells without crossings, whole.
-  auto whole = [&](M m)
-  {
-    v.Q[0] =
-      hn::IfThenElse(m, hn::Sub(v.K[0], cl.Column(PiecewiseTable::Start, m, v.First)), v.Q[0]);
-    for (int c = 1; c < 4; ++c)
-    {
-      v.Q[c] = hn::IfThenElse(m, v.K[c], v.Q[c]);
-    }
-    v.PieceLength = hn::IfThenElse(m, v.Length, v.PieceLength);
-    v.Piece = hn::IfThenElse(m, v.First, v.Piece);
-    v.Monotone = hn::IfThenElse(m, cl.Zero, v.Monotone);
-    v.Emit = hn::IfThenElse(m, cl.One, v.Emit);
-    v.Cell = hn::IfThenElse(m, cl.Zero, v.Cell);
+    s.U[i] = std::max(u, end);
+    s.J[i] = st.Useful(tf, j + 1);
   };
 
   for (int i = 0; i < N; ++i)
@@ -507,100 +277,97 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
     s.Out[i] = PiecewiseOutput();
     take(i);
   }
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0);
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   for (;;)
   {
-    // 1. Each lane's next piece, in rounds until every lane with a ray has
-    // one or a sub-piece to cut: lanes without a cell take their next
-    // visible one (nextCell, a lane at a time); a new cell without a knot
-    // crossing is one piece, one with crossings is cut into stretches;
-    // lanes being cut seek their next sub-piece's crossing (found together
-    // in step 2), or are spent and take a cell in the next round.
-    v.Emit = zero;
-    v.Seek = zero;
-    M ready = hn::Lt(zero, zero);
-    M live;
-    for (;;)
+    // 1. Each lane's next piece: the next visible cell where it has none
+    // (nextCell), whole when no knot crosses it, else its next sub-piece
+    // (after the crossings the lanes seek together, step 2); a lane whose
+    // cell is spent takes the next at once.
+    bool any = false, seeking = false;
+    hn::Store(zero, d, s.Emit);
+    hn::Store(zero, d, s.Seek);
+    for (int i = 0; i < N; ++i)
     {
-      alignas(64) double waiting[MaximumLanes];
-      hn::Store(hn::IfThenElseZero(ready, one), d, waiting);
-      hn::Store(v.Cell, d, s.Cell);
-      alignas(64) double active[MaximumLanes];
-      for (int i = 0; i < N; ++i)
+      while (s.Active[i])
       {
-        if (s.Active[i] && waiting[i] == 0.0 && s.Cell[i] == 0.0)
+        if (s.Cell[i] == 0)
         {
           nextCell(i);
+          continue;
         }
-        active[i] = s.Active[i] ? 1.0 : 0.0;
-      }
-      live = hn::Ne(hn::Load(d, active), zero);
-      v.Cell = hn::Load(d, s.Cell);
-      const auto taken = hn::And(live, hn::Eq(v.Cell, one));
-      if (!hn::AllFalse(d, taken))
-      {
-        for (int k = 0; k < 4; ++k)
+        if (s.Cell[i] == 1)
         {
-          v.K[k] = hn::IfThenElse(taken, hn::Load(d, s.K[k]), v.K[k]);
+          ++s.Out[i].Cells;
+          if (s.Crossings[i] == 0)
+          {
+            const std::size_t piece = static_cast<std::size_t>(s.First[i]);
+            s.Q[0][i] = s.K[0][i] - tf[piece].Start;
+            for (int k = 1; k < 4; ++k)
+            {
+              s.Q[k][i] = s.K[k][i];
+            }
+            s.PieceLength[i] = s.Length[i];
+            s.Piece[i] = static_cast<std::int64_t>(piece);
+            s.Monotone[i] = 0.0;
+            s.Emit[i] = 1.0;
+            s.Cell[i] = 0;
+            break;
+          }
+          // Monotone stretches: split at the extrema inside the cell.
+          const an::Cubic<double> c{ { s.K[0][i], s.K[1][i], s.K[2][i], s.K[3][i] } };
+          s.BoundCount[i] = an::detail::StretchBounds(c, s.Length[i], s.Bounds[i]);
+          s.Cell[i] = 2;
+          stretch(i, 0);
         }
-        v.Length = hn::IfThenElse(taken, hn::Load(d, s.Length), v.Length);
-        v.First = hn::IfThenElse(taken, hn::Load(d, s.First), v.First);
-        v.Crossings = hn::IfThenElse(taken, hn::Load(d, s.Crossings), v.Crossings);
-        const auto crossing = hn::And(taken, hn::Ne(v.Crossings, zero));
-        const auto single = hn::AndNot(crossing, taken);
-        if (!hn::AllFalse(d, single))
+        seek(i);
+        if (s.Cell[i] == 2)
         {
-          whole(single);
-          ready = hn::Or(ready, single);
-        }
-        if (!hn::AllFalse(d, crossing))
-        {
-          cutCells(crossing);
-          v.Cell = hn::IfThenElse(crossing, two, v.Cell);
+          seeking = seeking || s.Seek[i] != 0.0;
+          break;
         }
       }
-      const auto cutting = hn::AndNot(ready, hn::And(live, hn::Eq(v.Cell, two)));
-      if (!hn::AllFalse(d, cutting))
-      {
-        seek(cutting);
-        ready = hn::Or(ready, hn::And(cutting, hn::Eq(v.Cell, two)));
-      }
-      if (hn::AllFalse(d, hn::AndNot(ready, live)))
-      {
-        break;
-      }
+      any = any || s.Active[i];
     }
-    if (hn::AllFalse(d, live))
+    if (!any)
     {
       break;
     }
     // 2. The crossings sought, in lanes; the sub-pieces they end.
-    const auto cutting = hn::And(live, hn::Eq(v.Cell, two));
-    if (!hn::AllFalse(d, cutting))
+    if (seeking)
     {
-      const auto sought = hn::Ne(v.Seek, zero);
-      const V root = hn::AllFalse(d, sought)
-        ? zero
-        : CrossingLanes(
-            d, v.K, v.Value, hn::IfThenElseZero(sought, v.Lo), hn::IfThenElseZero(sought, v.Hi));
-      cut(cutting, root);
+      const auto sought = hn::Ne(hn::Load(d, s.Seek), zero);
+      const V k[4] = { hn::Load(d, s.K[0]), hn::Load(d, s.K[1]), hn::Load(d, s.K[2]),
+        hn::Load(d, s.K[3]) };
+      hn::Store(
+        CrossingLanes(d, k, hn::Load(d, s.Value), hn::IfThenElseZero(sought, hn::Load(d, s.Lo)),
+          hn::IfThenElseZero(sought, hn::Load(d, s.Hi))),
+        d, s.Root);
+    }
+    for (int i = 0; i < N; ++i)
+    {
+      if (s.Active[i] && s.Cell[i] == 2)
+      {
+        cut(i);
+      }
     }
 
     // 3. The pieces integrated in lanes, in each ray's order.
-    const auto emit = hn::Ne(v.Emit, zero);
+    const auto emit = hn::Ne(hn::Load(d, s.Emit), zero);
     if (hn::AllFalse(d, emit))
     {
       continue;
     }
     // The lanes' transfer-function pieces.
-    const auto piece = hn::ConvertTo(d64, hn::IfThenElseZero(emit, v.Piece));
+    const auto piece = hn::IfThenElseZero(hn::RebindMask(d64, emit), hn::LoadU(d64, s.Piece));
     auto gather = [&](int k) { return hn::GatherIndex(d, table.Columns[k].data(), piece); };
-    const V* k = v.Q;
-    const V l = hn::IfThenElseZero(emit, v.PieceLength);
+    const V k[4] = { hn::Load(d, s.Q[0]), hn::Load(d, s.Q[1]), hn::Load(d, s.Q[2]),
+      hn::Load(d, s.Q[3]) };
+    const V l = hn::IfThenElseZero(emit, hn::Load(d, s.PieceLength));
     V depth[PieceDegree + 1];
     const V E = DepthLanes(d, k, gather(PiecewiseTable::Tau), gather(PiecewiseTable::TauSlope),
       gather(PiecewiseTable::TauCurvature), gather(PiecewiseTable::TauCubic), l, depth);
-    const auto monotone = hn::Or(hn::Ne(v.Monotone, zero), MonotoneLanes(d, k, l));
+    const auto monotone = hn::Or(hn::Ne(hn::Load(d, s.Monotone), zero), MonotoneLanes(d, k, l));
     const V qa = k[0];
     const V ql =
       hn::Add(k[0], hn::Mul(l, hn::Add(k[1], hn::Mul(l, hn::Add(k[2], hn::Mul(l, k[3]))))));
@@ -644,12 +411,6 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
         hn::Store(scale, d, s.Scale);
         hn::Store(Ta, d, s.Front);
         hn::Store(E, d, s.PieceTransmittance);
-        for (int c = 0; c < 4; ++c)
-        {
-          hn::Store(v.Q[c], d, s.Q[c]);
-        }
-        hn::Store(v.PieceLength, d, s.PieceLength);
-        hn::Store(v.Piece, d, s.Piece);
       }
       else
       {
@@ -672,8 +433,6 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
     const auto stop = hn::And(emit, hn::Le(T, hn::Set(d, terminationBound)));
     alignas(64) double stops[MaximumLanes];
     hn::Store(hn::IfThenElseZero(stop, one), d, stops);
-    hn::Store(v.Emit, d, s.Emit);
-    hn::Store(v.Cell, d, s.Cell); // finish clears a lane's cell
     for (int i = 0; i < N; ++i)
     {
       if (s.Emit[i] == 0.0)
@@ -711,7 +470,6 @@ void CastRays(const Volume& volume, const an::PiecewiseTransferFunction<double>&
         take(i);
       }
     }
-    v.Cell = hn::Load(d, s.Cell);
   }
 }
 
@@ -765,10 +523,6 @@ std::string PiecewiseTable::Build(const numerics::PiecewiseTransferFunction<doub
       this->Columns[ColourSlope + c][i] = p.ColourSlope[c];
     }
     this->Columns[ColourSlopeMaximum][i] = p.ColourSlopeMaximum;
-    this->Columns[Start][i] = p.Start;
-    this->Columns[Visible][i] = tf.IsVisible(i) ? 1.0 : 0.0;
-    this->Columns[NextVisible][i] = static_cast<double>(tf.NextVisible(i));
-    this->Columns[PreviousVisibleEnd][i] = static_cast<double>(tf.PreviousVisibleEnd(i));
   }
   return std::string();
 }

@@ -14,8 +14,7 @@
 //   cell with knots is cut stretch by stretch (numerics::detail::Stretch),
 //   one sub-piece per lane and iteration, the knot crossings found by
 //   Newton's method in lanes, each lane on its own cubic; the cut's
-//   decisions (which stretch, knot and piece) in lanes too, from gathers of
-//   the unit tables, the knots and the piece table (CutLanes);
+//   decisions (which knot, which piece) are each lane's own, scalar;
 // - each lane's piece integrated in lanes: its depth polynomial and
 //   transmittance, the compositing, the midpoint bound or the series for the
 //   colour integral J (SeriesIntegral's sub-intervals, where its first one
@@ -52,10 +51,7 @@ namespace engine
 
 // The pieces of a numerics::PiecewiseTransferFunction as the lanes gather
 // them, a column per coefficient indexed by piece: tau's four, the colour's
-// three (Colour + c), its slope's three and the slope's largest magnitude;
-// then what the cut reads of a piece: its scalar Start, 1 where it is
-// visible, and NextVisible and PreviousVisibleEnd (indices, exact in
-// double below 2^53).
+// three (Colour + c), its slope's three and the slope's largest magnitude.
 struct PiecewiseTable
 {
   // From a built transfer function; empty on success, else why.
@@ -70,10 +66,6 @@ struct PiecewiseTable
     Colour,
     ColourSlope = Colour + 3,
     ColourSlopeMaximum = ColourSlope + 3,
-    Start,
-    Visible,
-    NextVisible,
-    PreviousVisibleEnd,
     ColumnCount
   };
   std::vector<double> Columns[ColumnCount];
