@@ -736,7 +736,8 @@ TEST(Piecewise, LocateEqualsBinarySearch)
 TEST(Piecewise, CellWalkerFillEqualsNext)
 {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> position(-1.0, 12.0), component(-1.0, 1.0), span(0.0, 40.0);
+  std::uniform_real_distribution<double> position(-1.0, 12.0), component(-1.0, 1.0),
+    span(0.0, 40.0);
   std::uniform_int_distribution<int> limits(1, an::CellBatch<double>::Capacity), pick(0, 5);
   long cells = 0;
   for (int r = 0; r < 20000; ++r)

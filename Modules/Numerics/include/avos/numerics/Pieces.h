@@ -746,9 +746,10 @@ AVOS_NUMERICS_INLINE int StretchBounds(const Cubic<Real>& s, Real length, Real b
 
 // The cells the ray origin + t direction (grid coordinates, t in the
 // caller's units) crosses over [tBegin, tEnd], inside the box of a volume of
-// `dimensions` points (at least 2 on every axis), in order (Amanatides and Woo's traversal), a cell
-// at a time: Next gives the next cell with a part [t0, t1] (t1 > t0) of the ray inside it, false
-// once none is left. At most nx + ny + nz + 3 steps; none for a non-finite ray.
+// `dimensions` points (at least 2 on every axis), in order (Amanatides and
+// Woo's traversal), a cell at a time: Next gives the next cell with a part
+// [t0, t1] (t1 > t0) of the ray inside it, false once none is left. At most
+// nx + ny + nz + 3 steps; none for a non-finite ray.
 template <typename Real>
 class CellWalker
 {
