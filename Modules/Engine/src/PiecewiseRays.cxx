@@ -534,17 +534,10 @@ std::string ValidatePiecewiseRays(
   {
     return "the ray-per-lane piecewise method reads 8- and 16-bit scalars only";
   }
-  std::string error = Validate(volume);
+  std::string error = Validate(volume); // at least 2 points along each axis, among others
   if (!error.empty())
   {
     return error;
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    if (volume.Dimensions[a] < 2)
-    {
-      return "the volume needs at least 2 points along each axis";
-    }
   }
   if (tf.GetNumberOfPieces() == 0 || !PieceKernels::TakesTables(tf.GetUnitTables()))
   {
