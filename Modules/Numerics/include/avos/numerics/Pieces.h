@@ -794,6 +794,9 @@ public:
     this->Left = this->N[0] + this->N[1] + this->N[2] + 3;
   }
 
+  // The step as written in the traversal's definition: Fill's oracle
+  // (Piecewise.CellWalkerFillEqualsNext). Not built on Fill: for a cell at a
+  // time (the maximum-intensity walk) that measured no faster.
   AVOS_NUMERICS_INLINE bool Next(int cell[3], Real& t0, Real& t1)
   {
     Real* tMax = this->TMax;
