@@ -4,9 +4,49 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <type_traits>
 
 namespace avos
 {
+namespace
+{
+// The engine's type of scalars of type T.
+template <typename T>
+avos::engine::ScalarType TypeOf()
+{
+  using Type = avos::engine::ScalarType;
+  if (std::is_floating_point<T>::value)
+  {
+    return sizeof(T) == 4 ? Type::Float32 : Type::Float64;
+  }
+  const bool isSigned = std::is_signed<T>::value;
+  switch (sizeof(T))
+  {
+    case 1:
+      return isSigned ? Type::Int8 : Type::UInt8;
+    case 2:
+      return isSigned ? Type::Int16 : Type::UInt16;
+    case 4:
+      return isSigned ? Type::Int32 : Type::UInt32;
+    default:
+      return isSigned ? Type::Int64 : Type::UInt64;
+  }
+}
+}
+
+bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view)
+{
+  switch (scalars->GetDataType())
+  {
+    vtkTemplateMacro(view.Type = TypeOf<VTK_TT>());
+    default:
+      return false;
+  }
+  view.Data = scalars->GetVoidPointer(0);
+  std::copy(dimensions, dimensions + 3, view.Dimensions);
+  return true;
+}
+
 avos::engine::Volume::Type EngineVolume::StoredType(int vtkScalarType)
 {
   using Type = avos::engine::Volume::Type;

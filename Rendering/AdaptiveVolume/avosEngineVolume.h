@@ -9,6 +9,7 @@
 #include "avosRenderingAdaptiveVolumeModule.h" // For export macro
 #include "vtkType.h"
 
+#include "avos/engine/Frame.h"
 #include "avos/engine/Riemann.h"
 
 #include <array>
@@ -18,6 +19,12 @@ class vtkDataArray;
 
 namespace avos
 {
+/// The frame engine's view of single-component scalars, one per grid point
+/// of `dimensions`, read in place (no copy); false for a type the engine
+/// does not read (bit, string and other non-numeric arrays).
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ScalarsInPlace(
+  vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view);
+
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EngineVolume
 {
 public:

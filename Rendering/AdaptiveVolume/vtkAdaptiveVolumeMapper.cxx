@@ -15,7 +15,6 @@
 #include "vtkRayCastImageDisplayHelper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkSMPThreadLocal.h"
 #include "vtkSMPTools.h"
 #include "vtkTable.h"
 #include "vtkTimerLog.h"
@@ -26,28 +25,18 @@
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
-#include "avosMonitoredWork.h"
 #include "avosTransferFunctionFromProperty.h"
 
-#include "avos/engine/EmptySpace.h"
-#include "avos/engine/PieceKernels.h"
-#include "avos/engine/PiecewiseRays.h"
-#include "avos/engine/PixelRays.h"
-#include "avos/engine/Riemann.h"
-#include "avos/numerics/Accumulation.h"
-#include "avos/numerics/Clipping.h"
-#include "avos/numerics/EmptySpace.h"
-#include "avos/numerics/Extremum.h"
+#include "avos/engine/Frame.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
-#include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Shading.h"
 #include "avos/numerics/TransferFunction.h"
-#include "avos/numerics/Volume.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,108 +44,6 @@ namespace
 {
 namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
-using Segments = std::vector<an::Interval<double>>;
-
-constexpr int TileSize = 16;
-
-// A thread's scratch lists for one ray: the visible segments, the part the
-// clipping planes and cropping keep, and their intersection; the blocks'
-// parts of the ray for the intensity projections. And for a tile's row of
-// rays, set up and walked through the empty-space map at once
-// (avos/engine/PixelRays.h, EmptySpace.h): their pixels, origins and
-// directions (three doubles each), lengths and segments.
-struct RayBuffers
-{
-  Segments Visible, Kept, Clipped;
-  std::vector<an::EmptySpaceMap<double>::Span> Spans;
-  std::array<int, TileSize> RowX;
-  std::array<double, 3 * TileSize> RowOrigins, RowDirections;
-  std::array<double, TileSize> RowLengths;
-  std::array<Segments, TileSize> RowSegments;
-  // A tile's rays for the lanes of the Riemann kernel or the piecewise one.
-  std::array<Segments, TileSize * TileSize> TileSegments;
-  std::array<avos::engine::RiemannRay, TileSize * TileSize> TileRays;
-  std::array<avos::engine::RayOutput, TileSize * TileSize> TileOutputs;
-  std::array<avos::engine::PiecewiseOutput, TileSize * TileSize> TilePieceOutputs;
-  std::array<int, TileSize * TileSize> TileX, TileY;
-};
-// Widening of the empty-space segments, in voxel units: far above rounding,
-// far below any step.
-constexpr double SegmentPad = 1e-6;
-
-// What a frame's ray cast depends on, besides the data and the property.
-struct FrameGeometry
-{
-  // Camera, grid and image: what the pixels' rays depend on (Rays.Depth
-  // points into Depth).
-  avos::engine::FrameRays Rays;
-  int Rect[4] = { 0, 0, 0, 0 }; // pixels cast: [x0, x1) x [y0, y1)
-  std::vector<float> Depth;     // the depth buffer, Rays.Width x Rays.Height
-  an::ClipRegion<double> Clip;  // clipping planes and cropping, in grid coordinates
-};
-
-struct ThreadStatistics
-{
-  vtkIdType Rays = 0;
-  vtkIdType Samples = 0;
-  vtkIdType MaximumSamples = 0;
-  vtkIdType Rejected = 0;
-  vtkIdType Cells = 0;
-  vtkIdType Pieces = 0;
-  vtkIdType Failed = 0;   // rays whose integration reported an error
-  std::string FirstError; // the first such error
-};
-
-glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
-{
-  glm::dvec4 r;
-  for (int i = 0; i < 4; ++i)
-  {
-    r[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3] * p[3];
-  }
-  return r;
-}
-
-// The pixel's ray from its centre on the near plane to the depth buffer, in
-// grid coordinates (voxel units), clipped to the grid's box.
-bool PixelRay(
-  const FrameGeometry& g, int x, int y, glm::dvec3& origin, glm::dvec3& direction, double& D)
-{
-  return avos::engine::PixelRay(g.Rays, x, y, &origin.x, &direction.x, D);
-}
-
-// The integration settings of one frame.
-struct Method
-{
-  int Kind = vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED;
-  int Blend = vtkVolumeMapper::COMPOSITE_BLEND; // or the maximum / minimum intensity
-  an::AdaptiveSettings<double> Adaptive;
-  double SampleDistance = 0.5;
-  double TerminationBound = 0.0;
-  // The transfer function in pieces with polynomial extinction (Pieces.h),
-  // for the piecewise methods (PIECEWISE_ADAPTIVE; REFERENCE in the
-  // extinction model).
-  const an::PiecewiseTransferFunction<double>* Pieces = nullptr;
-  // The vectorised engine's copy of the volume and transfer function, for
-  // RIEMANN (null: the scalar sum).
-  const avos::engine::Volume* EngineVolume = nullptr;
-  const avos::engine::TransferTable* EngineTable = nullptr;
-  // PIECEWISE_ADAPTIVE's kernels, given the same copy where the scalars are
-  // 8- or 16-bit (else its cells take the scalar walk), and there its pieces'
-  // table for the ray-per-lane integrator (null: a ray at a time).
-  avos::engine::PieceKernels Kernels;
-  const avos::engine::PiecewiseTable* PieceTable = nullptr;
-  // Gradient shading of the emission (null: none), with the grid-to-world
-  // matrix's linear part (ray directions to world) and the normal matrix
-  // (grid gradients to world).
-  const an::ShadingModel<double>* Shading = nullptr;
-  // The average projection's range, and the data's range, to which the
-  // projections normalise the scalar.
-  const an::AverageRange<double>* Range = nullptr;
-  double ScalarMinimum = 0.0, ScalarMaximum = 1.0;
-  glm::dmat3 GridToWorld{ 1.0 };
-  glm::dmat3 NormalMatrix{ 1.0 };
-};
 
 // The property's shading coefficients and the renderer's switched-on lights
 // (directional: from the focal point towards the position, each light's
@@ -227,489 +114,131 @@ std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int bl
   return std::string();
 }
 
-// Calls f(field) with the ray start + t direction's field (grid coordinates):
-// shaded when the method shades, the scalar alone otherwise.
-template <typename Storage, typename F>
-an::RayResult<double> WithField(const an::TrilinearVolume<double, Storage>& volume,
-  const Method& method, const glm::dvec3& start, const glm::dvec3& direction, F&& f)
+// The blend mode as the engine names it (ValidateSettings admits these).
+avos::engine::Blend EngineBlend(int blend)
 {
-  using Volume = an::TrilinearVolume<double, Storage>;
-  if (method.Shading)
+  switch (blend)
   {
-    const glm::dvec3 toViewer = -glm::normalize(method.GridToWorld * direction);
-    return f(an::ShadedRayField<double, Volume>{
-      volume, start, direction, method.NormalMatrix, toViewer, *method.Shading });
-  }
-  return f(an::RayField<double, Volume>{ volume, start, direction });
-}
-
-// The Riemann sum over the kept parts of a ray, each its own ray from its
-// entry (as VTK's mappers start a clipped ray at the plane), front to back;
-// `segments` are the visible ones of [0, D].
-template <typename Storage>
-void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const TransferFunction& tf,
-  const Method& method, const glm::dvec3& origin, const glm::dvec3& direction,
-  const Segments& segments, RayBuffers& buffers, an::RayResult<double>& result,
-  std::vector<an::StepRecord<double>>* steps)
-{
-  // The sums' own termination test, on the whole ray's transmittance.
-  const double stop = method.TerminationBound / std::max(1.0, tf.GetMaximumColor());
-  glm::dvec3 color(0.0);
-  double T = 1.0;
-  for (const an::Interval<double>& part : buffers.Kept)
-  {
-    if (T <= stop)
-    {
-      break;
-    }
-    buffers.Clipped.clear();
-    for (const an::Interval<double>& v : segments)
-    {
-      const double a = std::max(v.Begin, part.Begin), b = std::min(v.End, part.End);
-      if (a < b)
-      {
-        buffers.Clipped.push_back({ a - part.Begin, b - part.Begin });
-      }
-    }
-    if (buffers.Clipped.empty())
-    {
-      continue;
-    }
-    const glm::dvec3 start = origin + part.Begin * direction;
-    const double D = part.End - part.Begin;
-    // What is left of the bound after the transmittance spent before.
-    const double bound = method.TerminationBound > 0.0 ? method.TerminationBound / T : 0.0;
-    const std::size_t recorded = steps ? steps->size() : 0;
-    glm::dvec4 rgba;
-    if (method.EngineVolume && !steps)
-    {
-      avos::engine::RayOutput out;
-      avos::engine::CastRiemann(*method.EngineVolume, *method.EngineTable, &start.x, &direction.x,
-        D, method.SampleDistance, buffers.Clipped.data(), buffers.Clipped.size(), bound, out);
-      rgba = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-      result.Statistics.Samples += out.Samples;
-    }
-    else
-    {
-      const an::RayResult<double> r = WithField(volume, method, start, direction,
-        [&](const auto& field)
-        {
-          return an::IntegrateRiemann(field, tf, D, method.SampleDistance,
-            an::RiemannForm::Exponential, buffers.Clipped.data(), buffers.Clipped.size(), bound,
-            steps);
-        });
-      if (!r.Error.empty())
-      {
-        result.Error = r.Error;
-        return;
-      }
-      rgba = r.RGBA;
-      result.Statistics.Samples += r.Statistics.Samples;
-    }
-    for (std::size_t i = recorded; steps && i < steps->size(); ++i)
-    {
-      (*steps)[i].Start += part.Begin;
-    }
-    color += T * glm::dvec3(rgba);
-    T *= 1.0 - rgba.a;
-  }
-  result.RGBA = glm::dvec4(color, 1.0 - T);
-}
-
-// Whether the rays of `method` are integrated over the map's visible
-// segments (the intensity projections search the blocks themselves).
-bool WalksSegments(const an::EmptySpaceMap<double>* map, const Method& method)
-{
-  return map && method.Blend == vtkVolumeMapper::COMPOSITE_BLEND;
-}
-
-// Integrates the ray origin + t direction, t in [0, D], through the visible
-// blocks (all of the box without a map) that the clipping planes and
-// cropping keep; when WalksSegments, buffers.Visible holds the ray's visible
-// segments on entry. `steps`, when given, receives the accepted outer steps.
-template <typename Storage>
-void IntegrateRay(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
-  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method,
-  const glm::dvec3& origin, const glm::dvec3& direction, double D, RayBuffers& buffers,
-  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps = nullptr)
-{
-  Segments& segments = buffers.Visible;
-  const bool projection = method.Blend != vtkVolumeMapper::COMPOSITE_BLEND;
-  if (!WalksSegments(map, method))
-  {
-    segments.assign(1, { 0.0, D });
-  }
-  if (!g.Clip.IsEmpty() && !segments.empty())
-  {
-    g.Clip.Kept(origin, direction, D, buffers.Kept);
-    if (method.Kind == vtkAdaptiveVolumeMapper::RIEMANN && !projection)
-    {
-      ClippedRiemann(volume, tf, method, origin, direction, segments, buffers, result, steps);
-      return;
-    }
-    // The other methods integrate exactly the segments they are given (tau
-    // taken as 0 elsewhere), within their tolerance over the whole ray.
-    an::ClipRegion<double>::Intersect(segments, buffers.Kept, buffers.Clipped);
-    std::swap(segments, buffers.Clipped);
-  }
-  if (segments.empty())
-  {
-    return;
-  }
-  if (method.Blend == vtkVolumeMapper::ADDITIVE_BLEND ||
-    method.Blend == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
-  {
-    // Shown as VTK's GPU mapper shows them: grey, clamped to [0, 1], opaque
-    // wherever the ray meets the volume (the average: the range).
-    an::Accumulation<double> a;
-    if (method.Blend == vtkVolumeMapper::ADDITIVE_BLEND)
-    {
-      a = an::AdditiveAlongRay(volume, origin, direction, segments.data(), segments.size(),
-        *method.Pieces, method.ScalarMinimum, method.ScalarMaximum);
-      a.Length = 1.0;
-    }
-    else
-    {
-      a = an::AverageAlongRay(volume, origin, direction, segments.data(), segments.size(),
-        *method.Range, tf, method.SampleDistance, method.ScalarMinimum, method.ScalarMaximum,
-        method.Adaptive.Tolerance);
-    }
-    result.Error = a.Error;
-    if (a.Error.empty() && a.Length > 0.0)
-    {
-      const double v = std::min(std::max(a.Value, 0.0), 1.0);
-      result.RGBA = glm::dvec4(v, v, v, 1.0);
-    }
-    result.Statistics.Cells = a.Cells;
-    result.Statistics.Samples = a.Cells;
-    return;
-  }
-  if (projection)
-  {
-    // The exact extremum of the ray's scalar, shown as VTK's mappers show a
-    // projection: its colour times the opacity function's value there.
-    const bool maximum = method.Blend == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
-    // Blocks best first where the map gives their ranges.
-    const an::RayExtremum<double> e = map
-      ? an::ExtremumByBlocks(volume, *map, origin, direction, D, SegmentPad, segments.data(),
-          segments.size(), maximum, buffers.Spans)
-      : an::ExtremumAlongRay(volume, origin, direction, segments.data(), segments.size(), maximum);
-    if (e.Found)
-    {
-      const double alpha = std::min(std::max(tf.GetOpacityValue(e.Value), 0.0), 1.0);
-      result.RGBA = glm::dvec4(tf.GetColor(e.Value) * alpha, alpha);
-    }
-    result.Statistics.Cells = e.Cells;
-    result.Statistics.Samples = e.Cells;
-    return;
-  }
-  switch (method.Kind)
-  {
-    case vtkAdaptiveVolumeMapper::RIEMANN:
-      if (method.EngineVolume && !steps)
-      {
-        // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
-        avos::engine::RayOutput out;
-        avos::engine::CastRiemann(*method.EngineVolume, *method.EngineTable, &origin.x,
-          &direction.x, D, method.SampleDistance, segments.data(), segments.size(),
-          method.TerminationBound, out);
-        result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-        result.Statistics.Samples = out.Samples;
-        break;
-      }
-      result = WithField(volume, method, origin, direction,
-        [&](const auto& field)
-        {
-          return an::IntegrateRiemann(field, tf, D, method.SampleDistance,
-            an::RiemannForm::Exponential, segments.data(), segments.size(), method.TerminationBound,
-            steps);
-        });
-      break;
-    case vtkAdaptiveVolumeMapper::REFERENCE:
-      result = method.Pieces
-        ? an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-            *method.Pieces, an::PiecewiseReferenceTolerance<double>())
-        : WithField(volume, method, origin, direction,
-            [&](const auto& field)
-            { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
-      break;
-    case vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE:
-      // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
-      result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-        *method.Pieces, method.Adaptive.Tolerance, true, steps, method.Kernels);
-      break;
+    case vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND:
+      return avos::engine::Blend::Maximum;
+    case vtkVolumeMapper::MINIMUM_INTENSITY_BLEND:
+      return avos::engine::Blend::Minimum;
+    case vtkVolumeMapper::AVERAGE_INTENSITY_BLEND:
+      return avos::engine::Blend::Average;
+    case vtkVolumeMapper::ADDITIVE_BLEND:
+      return avos::engine::Blend::Additive;
     default:
-      result = WithField(volume, method, origin, direction,
-        [&](const auto& field)
-        {
-          return an::IntegrateAdaptive(
-            field, tf, segments.data(), segments.size(), method.Adaptive, steps);
-        });
+      return avos::engine::Blend::Composite;
   }
 }
 
-// IntegrateRay for the pixel's ray, its segments walked here. False when
-// the ray misses the volume's box.
-template <typename Storage>
-bool IntegratePixel(const an::TrilinearVolume<double, Storage>& volume, const FrameGeometry& g,
-  const TransferFunction& tf, const an::EmptySpaceMap<double>* map, const Method& method, int x,
-  int y, RayBuffers& buffers, an::RayResult<double>& result,
-  std::vector<an::StepRecord<double>>* steps = nullptr)
+// What the last image depends on besides the property's tables: a frame
+// whose key equals the last cast's is drawn again, not cast.
+struct FrameKey
 {
-  glm::dvec3 origin, direction;
-  double D;
-  if (!PixelRay(g, x, y, origin, direction, D))
-  {
-    return false;
-  }
-  if (WalksSegments(map, method))
-  {
-    map->Segments(origin, direction, D, SegmentPad, buffers.Visible);
-  }
-  IntegrateRay(volume, g, tf, map, method, origin, direction, D, buffers, result, steps);
-  return true;
-}
+  std::array<double, 16> Projection{};
+  std::array<double, 16> GridToWorld{};
+  std::array<int, 6> Viewport{ { 0, 0, 0, 0, 0, 0 } }; // origin, viewport and image sizes
+  std::vector<float> Depth;                            // the frame's depth buffer
+  an::ClipRegion<double> Clip;
+  vtkMTimeType MapperTime = 0;
+  vtkMTimeType ClassifyTime = 0;
+  vtkMTimeType RangesTime = 0;
+  std::vector<double> Shading; // the shading's coefficients and lights, as numbers
 
-template <typename Storage>
-class RayCaster
-{
-public:
-  RayCaster(const Storage* data, const FrameGeometry& geometry, const TransferFunction& tf,
-    const an::EmptySpaceMap<double>* map, const Method& method, float* image,
-    vtkSMPThreadLocal<ThreadStatistics>& statistics, vtkSMPThreadLocal<RayBuffers>& buffers,
-    avos::WorkMonitor& monitor)
-    : Volume(data, geometry.Rays.Dimensions)
-    , Geometry(geometry)
-    , TF(tf)
-    , Map(map)
-    , Settings(method)
-    , Image(image)
-    , Statistics(statistics)
-    , Buffers(buffers)
-    , Monitor(monitor)
+  bool operator==(const FrameKey& o) const
   {
-    this->TilesX = (geometry.Rect[1] - geometry.Rect[0] + TileSize - 1) / TileSize;
-    const bool lanes = method.Kind == vtkAdaptiveVolumeMapper::RIEMANN
-      ? method.EngineVolume != nullptr
-      : method.Kind == vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE && method.PieceTable;
-    this->RaysPerLane =
-      lanes && method.Blend == vtkVolumeMapper::COMPOSITE_BLEND && geometry.Clip.IsEmpty();
+    return this->Projection == o.Projection && this->GridToWorld == o.GridToWorld &&
+      this->Viewport == o.Viewport && this->Depth == o.Depth && this->Clip == o.Clip &&
+      this->MapperTime == o.MapperTime && this->ClassifyTime == o.ClassifyTime &&
+      this->RangesTime == o.RangesTime && this->Shading == o.Shading;
   }
-
-  // Tiles [begin, end) in row-major order over the cast rectangle. Once the
-  // frame is aborted, the remaining tiles are skipped.
-  void operator()(vtkIdType begin, vtkIdType end)
-  {
-    ThreadStatistics& stats = this->Statistics.Local();
-    RayBuffers& buffers = this->Buffers.Local();
-    const int* rect = this->Geometry.Rect;
-    for (vtkIdType tile = begin; tile < end && !this->Monitor.Aborted(); ++tile)
-    {
-      const int x0 = rect[0] + static_cast<int>(tile % this->TilesX) * TileSize;
-      const int y0 = rect[2] + static_cast<int>(tile / this->TilesX) * TileSize;
-      if (this->RaysPerLane)
-      {
-        this->CastTile(x0, std::min(x0 + TileSize, rect[1]), y0, std::min(y0 + TileSize, rect[3]),
-          stats, buffers);
-      }
-      else
-      {
-        for (int y = y0; y < std::min(y0 + TileSize, rect[3]); ++y)
-        {
-          this->CastRow(x0, std::min(x0 + TileSize, rect[1]), y, stats, buffers);
-        }
-      }
-      this->Monitor.Finished(1);
-    }
-  }
-
-private:
-  // Pixels [x0, x1) of row y (at most a tile's width): the rays that meet
-  // the box, set up and walked through the empty-space map as one packet.
-  void CastRow(int x0, int x1, int y, ThreadStatistics& stats, RayBuffers& buffers)
-  {
-    const int count = this->SetUpRow(x0, x1, y, buffers);
-    for (int i = 0; i < count; ++i)
-    {
-      std::swap(buffers.Visible, buffers.RowSegments[i]);
-      const double* o = &buffers.RowOrigins[3 * i];
-      const double* d = &buffers.RowDirections[3 * i];
-      an::RayResult<double> result;
-      IntegrateRay(this->Volume, this->Geometry, this->TF, this->Map, this->Settings,
-        glm::dvec3(o[0], o[1], o[2]), glm::dvec3(d[0], d[1], d[2]), buffers.RowLengths[i], buffers,
-        result);
-      this->Store(buffers.RowX[i], y, result, stats);
-    }
-  }
-
-  // The rays of pixels [x0, x1) of row y that meet the box into buffers.Row*
-  // (their segments too where the rays walk the empty-space map); how many.
-  int SetUpRow(int x0, int x1, int y, RayBuffers& buffers) const
-  {
-    const int count = avos::engine::RowRays(this->Geometry.Rays, y, x0, x1, buffers.RowX.data(),
-      buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data());
-    if (WalksSegments(this->Map, this->Settings))
-    {
-      avos::engine::PacketSegments(*this->Map, static_cast<std::size_t>(count),
-        buffers.RowOrigins.data(), buffers.RowDirections.data(), buffers.RowLengths.data(),
-        SegmentPad, buffers.RowSegments.data());
-    }
-    return count;
-  }
-
-  // The Riemann sum or the piecewise method over a tile's rays, a ray per
-  // lane of the engine's kernels (avos/engine/Riemann.h, PiecewiseRays.h):
-  // what CastRow and IntegrateRay give without clipping, the rays refilling
-  // the lanes across the tile's rows.
-  void CastTile(int x0, int x1, int y0, int y1, ThreadStatistics& stats, RayBuffers& buffers)
-  {
-    const bool walks = WalksSegments(this->Map, this->Settings);
-    std::size_t count = 0;
-    for (int y = y0; y < y1; ++y)
-    {
-      const int n = this->SetUpRow(x0, x1, y, buffers);
-      for (int i = 0; i < n; ++i, ++count)
-      {
-        Segments& segments = buffers.TileSegments[count];
-        if (walks)
-        {
-          std::swap(segments, buffers.RowSegments[i]);
-        }
-        else
-        {
-          segments.assign(1, { 0.0, buffers.RowLengths[i] });
-        }
-        avos::engine::RiemannRay& ray = buffers.TileRays[count];
-        std::copy_n(&buffers.RowOrigins[3 * i], 3, ray.Origin);
-        std::copy_n(&buffers.RowDirections[3 * i], 3, ray.Direction);
-        ray.D = buffers.RowLengths[i];
-        ray.Segments = segments.data();
-        ray.Count = segments.size();
-        buffers.TileX[count] = buffers.RowX[i];
-        buffers.TileY[count] = y;
-      }
-    }
-    const Method& method = this->Settings;
-    if (method.Kind == vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE)
-    {
-      avos::engine::CastPiecewiseRays(*method.Kernels.Scalars, *method.Pieces, *method.PieceTable,
-        method.Adaptive.Tolerance, buffers.TileRays.data(), count, buffers.TilePieceOutputs.data());
-      for (std::size_t i = 0; i < count; ++i)
-      {
-        avos::engine::PiecewiseOutput& out = buffers.TilePieceOutputs[i];
-        an::RayResult<double> result;
-        result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-        result.Statistics.Samples = out.Pieces;
-        result.Statistics.Pieces = out.Pieces;
-        result.Statistics.Cells = out.Cells;
-        result.Statistics.Rejected = out.Rejected;
-        std::swap(result.Error, out.Error);
-        this->Store(buffers.TileX[i], buffers.TileY[i], result, stats);
-      }
-      return;
-    }
-    avos::engine::CastRiemannRays(*method.EngineVolume, *method.EngineTable, method.SampleDistance,
-      method.TerminationBound, buffers.TileRays.data(), count, buffers.TileOutputs.data());
-    for (std::size_t i = 0; i < count; ++i)
-    {
-      const avos::engine::RayOutput& out = buffers.TileOutputs[i];
-      an::RayResult<double> result;
-      result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-      result.Statistics.Samples = out.Samples;
-      this->Store(buffers.TileX[i], buffers.TileY[i], result, stats);
-    }
-  }
-
-  void Store(int x, int y, const an::RayResult<double>& result, ThreadStatistics& stats)
-  {
-    ++stats.Rays;
-    if (!result.Error.empty())
-    {
-      if (stats.Failed++ == 0)
-      {
-        stats.FirstError = result.Error;
-      }
-    }
-    float* pixel = this->Image + 4 * (static_cast<std::size_t>(y) * this->Geometry.Rays.Width + x);
-    for (int c = 0; c < 4; ++c)
-    {
-      pixel[c] = static_cast<float>(result.RGBA[c]);
-    }
-    stats.Samples += result.Statistics.Samples;
-    stats.MaximumSamples = std::max<vtkIdType>(stats.MaximumSamples, result.Statistics.Samples);
-    stats.Rejected += result.Statistics.Rejected;
-    stats.Cells += result.Statistics.Cells;
-    stats.Pieces += result.Statistics.Pieces;
-  }
-
-  an::TrilinearVolume<double, Storage> Volume;
-  const FrameGeometry& Geometry;
-  const TransferFunction& TF;
-  const an::EmptySpaceMap<double>* Map;
-  const Method& Settings;
-  float* Image;
-  vtkSMPThreadLocal<ThreadStatistics>& Statistics;
-  vtkSMPThreadLocal<RayBuffers>& Buffers;
-  avos::WorkMonitor& Monitor;
-  bool RaysPerLane = false;
-  int TilesX = 0;
 };
 
+// vtkSMPTools as the engine's parallel loop.
+void ParallelFor(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
+{
+  vtkSMPTools::For(0, static_cast<vtkIdType>(count), 1,
+    [&body](vtkIdType begin, vtkIdType end) { body(begin, end); });
+}
 } // namespace
 
+// Each stage's inputs, caches and timestamps, in the order Render runs them.
 class vtkAdaptiveVolumeMapper::vtkInternals
 {
 public:
-  // Data: the empty-space map's ranges.
-  avos::EmptySpaceRanges Ranges;
+  // ValidateSettings: the adaptive rule's settings.
+  an::AdaptiveSettings<double> Adaptive;
 
-  // Property: the transfer function and the blocks' visibility.
+  // UpdateInput: the input's scalars and grid.
+  vtkDataArray* Scalars = nullptr;
+  int Dimensions[3] = { 0, 0, 0 };
+
+  // UpdateGeometry: grid to world and back, the voxel unit, the clipping
+  // planes and cropping in grid coordinates.
+  vtkNew<vtkMatrix4x4> GridToWorld, WorldToGrid;
+  double Voxel = 0.0;
+  an::ClipRegion<double> Clip;
+
+  // UpdateScalars: the empty-space map's ranges (rebuilt when the scalars
+  // change), the data's range, the engine's view of the scalars (in place).
+  avos::EmptySpaceRanges Ranges;
+  double DataRange[2] = { 0.0, 1.0 };
+  avos::engine::Scalars View;
+
+  // UpdateProperty: the transfer function and the blocks' visibility; the
+  // shading of the frame (FrameMethod::Shading points here) and its key.
   TransferFunction TF;
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
-  double Voxel = 0.0;
+  double ClassifiedVoxel = 0.0;
   vtkTimeStamp ClassifyTime;
   std::size_t VisibleBlocks = 0;
+  bool Shade = false;
+  an::ShadingModel<double> Shading;
+  std::vector<double> ShadingKey;
   // The transfer function in pieces, built for a relative error (the alpha
   // model's share of the tolerance) when a piecewise method needs it.
+  bool Piecewise = false;
   an::PiecewiseTransferFunction<double> Pieces;
   double PiecesRelativeError = 0.0;
   vtkTimeStamp PiecesTime;
   // The average projection's range (AverageAlongRay), rebuilt every frame.
   an::AverageRange<double> AverageRange;
-  // The vectorised engine's inputs (RIEMANN): the scalars as the kernels
-  // read them, and the transfer table, rebuilt with the classification.
+
+  // UpdateKernelTables: the kernels' scalars (8- and 16-bit as they are,
+  // other types as float; null: the scalar paths), the Riemann kernel's
+  // transfer table and the piecewise rays' table.
   avos::EngineVolume EngineScalars;
+  const avos::engine::Volume* RiemannScalars = nullptr;
+  const avos::engine::Volume* CellScalars = nullptr;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
+  bool PieceLanes = false;
   avos::engine::PiecewiseTable PieceTable;
   vtkTimeStamp PieceTableTime;
 
-  // Frame: what the last image depends on.
-  std::array<double, 16> Projection{};
-  std::array<double, 16> VolumeMatrix{};
-  std::array<int, 6> Viewport{ { 0, 0, 0, 0, 0, 0 } }; // origin, viewport and image sizes
-  std::vector<float> ViewportDepth;                    // the depth buffer under the viewport
-  std::vector<float> LastDepth;
-  vtkMTimeType FrameMapperTime = 0;
-  vtkMTimeType FrameClassifyTime = 0;
-  vtkMTimeType FrameRangesTime = 0;
-  bool HaveImage = false;
-  // The last ray cast's image sample distance and time (auto-adjustment).
-  double CastDistance = 1.0;
-  double CastSeconds = 0.0;
-  // What TraceRay re-casts: the last frame's data, method and map use.
-  vtkSmartPointer<vtkDataArray> FrameScalars;
-  Method FrameMethod;
-  bool FrameSkipping = false;
-  // The shading of the current frame (Method::Shading points here) and the
-  // last cast's, as numbers: a light or coefficient change recasts.
-  an::ShadingModel<double> Shading;
-  std::vector<double> ShadingKey, FrameShadingKey;
+  // SetUpFrame: the frame's rays and what they depend on; the image sample
+  // distance and the viewport's depth buffer.
+  avos::engine::Frame Frame;
+  FrameKey Key;
+  double Distance = 1.0;
+  std::vector<float> ViewportDepth;
 
-  FrameGeometry Geometry;
+  // CastFrame: the caster's scratch, the last cast's method, key and
+  // scalars (TraceRay re-casts its pixels), its image in float and 16-bit;
+  // its distance and time (auto-adjustment).
+  avos::engine::FrameCaster Caster;
+  avos::engine::FrameMethod Method;
+  FrameKey LastKey;
+  bool HaveImage = false;
+  vtkSmartPointer<vtkDataArray> FrameScalars;
   vtkNew<vtkImageData> Image;
   std::vector<std::uint16_t> Display;
+  double CastDistance = 1.0;
+  double CastSeconds = 0.0;
+
+  // DisplayFrame.
   vtkSmartPointer<vtkRayCastImageDisplayHelper> DisplayHelper;
 };
 
@@ -774,17 +303,38 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   timer->StartTimer();
   vtkInternals& internals = *this->Internals;
   this->LastRenderReused = false;
-  // Every early return below leaves an empty image and draws nothing.
-  auto fail = [&]()
+  vtkImageData* input = nullptr;
+  bool drawn = this->ValidateSettings() && (input = this->UpdateInput()) != nullptr &&
+    this->UpdateGeometry(input, vol) && this->UpdateScalars() && this->UpdateProperty(ren, vol) &&
+    this->UpdateKernelTables() && this->SetUpFrame(ren, vol);
+  if (drawn)
   {
+    this->LastRenderReused = internals.HaveImage && internals.Key == internals.LastKey;
+    drawn = this->LastRenderReused || this->CastFrame(ren);
+    if (drawn && !this->LastRenderReused)
+    {
+      timer->StopTimer();
+      internals.CastSeconds = timer->GetElapsedTime();
+    }
+  }
+  if (drawn)
+  {
+    this->DisplayFrame(ren, vol);
+  }
+  else
+  {
+    // Nothing is drawn: an empty image.
     internals.Image->Initialize();
     internals.HaveImage = false;
-    timer->StopTimer();
-    this->LastRenderTime = timer->GetElapsedTime();
-  };
+  }
+  timer->StopTimer();
+  this->LastRenderTime = timer->GetElapsedTime();
+}
 
-  // Parameters.
-  an::AdaptiveSettings<double> adaptive;
+bool vtkAdaptiveVolumeMapper::ValidateSettings()
+{
+  an::AdaptiveSettings<double>& adaptive = this->Internals->Adaptive;
+  adaptive = an::AdaptiveSettings<double>();
   adaptive.Tolerance = this->Tolerance;
   adaptive.InitialStep = this->InitialStep;
   adaptive.MinimumStep = this->MinimumStep;
@@ -797,7 +347,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< "Invalid integration settings: " << invalid << " (tolerance "
                   << this->Tolerance << ", steps " << this->InitialStep << " / "
                   << this->MinimumStep << " / " << this->MaximumStep << ").");
-    return fail();
+    return false;
   }
   // (The additive projection integrates the same pieces at the tolerance.)
   if (this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
@@ -809,7 +359,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     if (!error.empty())
     {
       vtkErrorMacro(<< "Invalid tolerance " << this->Tolerance << ": " << error << ".");
-      return fail();
+      return false;
     }
   }
   for (const double step :
@@ -821,7 +371,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                     << ", " << GetLargestStep() << "] voxel units; got sample distance "
                     << this->SampleDistance << ", steps " << this->InitialStep << " / "
                     << this->MinimumStep << " / " << this->MaximumStep << ".");
-      return fail();
+      return false;
     }
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
@@ -833,14 +383,18 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< "Blend mode " << this->BlendMode
                   << " is not supported: composite, maximum, minimum and average intensity, "
                      "and additive are.");
-    return fail();
+    return false;
   }
+  return true;
+}
 
-  // Input.
+vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
+{
+  vtkInternals& internals = *this->Internals;
   if (!this->GetInput())
   {
     vtkErrorMacro(<< "No input.");
-    return fail();
+    return nullptr;
   }
   this->GetInputAlgorithm()->Update();
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
@@ -848,28 +402,28 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     vtkErrorMacro(<< "The input must be a vtkImageData, not a " << this->GetInput()->GetClassName()
                   << ".");
-    return fail();
+    return nullptr;
   }
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
     input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
-  int dims[3];
+  int* dims = internals.Dimensions;
   input->GetDimensions(dims);
   if (!scalars)
   {
     vtkErrorMacro(<< "The input has no scalars to render.");
-    return fail();
+    return nullptr;
   }
   if (cellFlag)
   {
     vtkErrorMacro(<< "Cell scalars are not supported; use point scalars.");
-    return fail();
+    return nullptr;
   }
   if (scalars->GetNumberOfComponents() != 1)
   {
     vtkErrorMacro(<< "Only single-component scalars are supported, not "
                   << scalars->GetNumberOfComponents() << " components.");
-    return fail();
+    return nullptr;
   }
   if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
     scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
@@ -877,7 +431,7 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< "The input must have at least 2 points along each axis and one scalar per "
                      "point; its dimensions are "
                   << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
-    return fail();
+    return nullptr;
   }
   const double* spacing = input->GetSpacing();
   if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0 ||
@@ -885,39 +439,45 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     vtkErrorMacro(<< "The input's spacing must be non-zero and finite, not (" << spacing[0] << ", "
                   << spacing[1] << ", " << spacing[2] << ").");
-    return fail();
+    return nullptr;
   }
+  internals.Scalars = scalars;
+  return input;
+}
 
+bool vtkAdaptiveVolumeMapper::UpdateGeometry(vtkImageData* input, vtkVolume* vol)
+{
+  vtkInternals& internals = *this->Internals;
   // Grid -> world: the image's placement, then the volume's matrix.
-  vtkNew<vtkMatrix4x4> gridToWorld;
-  const double voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
-  vtkNew<vtkMatrix4x4> worldToGrid;
-  vtkMatrix4x4::Invert(gridToWorld, worldToGrid);
-  if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
+  internals.Voxel = avos::GridToWorld(input, vol->GetMatrix(), internals.GridToWorld);
+  vtkMatrix4x4::Invert(internals.GridToWorld, internals.WorldToGrid);
+  if (!(internals.Voxel > 0.0) || !std::isfinite(internals.Voxel) ||
+    internals.GridToWorld->Determinant() == 0.0)
   {
     vtkErrorMacro(<< "The volume's grid is degenerate in world space (zero spacing or a "
                      "singular volume matrix).");
-    return fail();
+    return false;
   }
-
   // Clipping planes (world) and cropping (the volume's coordinates, as VTK's
   // mappers: origin and spacing) -> grid coordinates.
-  an::ClipRegion<double> clip;
+  an::ClipRegion<double>& clip = internals.Clip;
+  clip = an::ClipRegion<double>();
   const std::string planesError =
-    avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), clip);
+    avos::AddClippingPlanes(this->ClippingPlanes, internals.GridToWorld->GetData(), clip);
   if (!planesError.empty())
   {
     vtkErrorMacro(<< planesError << ".");
-    return fail();
+    return false;
   }
   if (this->Cropping)
   {
+    const double* spacing = input->GetSpacing();
     vtkMatrix3x3* orientation = input->GetDirectionMatrix();
     if (!orientation->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 || spacing[2] < 0.0)
     {
       vtkErrorMacro(<< "Cropping needs an input with positive spacing and no direction matrix "
                        "(its region planes are in the volume's axis-aligned coordinates).");
-      return fail();
+      return false;
     }
     const double* origin = input->GetOrigin();
     const int* extent = input->GetExtent();
@@ -933,70 +493,89 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (!unusable.empty())
   {
     vtkErrorMacro(<< "Unusable clipping or cropping: " << unusable << ".");
-    return fail();
+    return false;
   }
+  return true;
+}
 
-  // Data -> empty-space ranges, when the scalars changed.
-  if (!internals.Ranges.Update(scalars, dims))
+bool vtkAdaptiveVolumeMapper::UpdateScalars()
+{
+  vtkInternals& internals = *this->Internals;
+  vtkDataArray* scalars = internals.Scalars;
+  // The empty-space ranges, when the scalars changed.
+  if (!internals.Ranges.Update(scalars, internals.Dimensions) ||
+    !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View))
   {
     vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
-    return fail();
+    return false;
   }
   if (internals.Ranges.GetNaNCount() > 0)
   {
     vtkErrorMacro(<< "The input has " << internals.Ranges.GetNaNCount()
                   << " NaN scalars; a volume with undefined values is not rendered.");
-    return fail();
+    return false;
   }
+  // Bounds of the trilinear field, and the projections' normalisation.
+  scalars->GetRange(internals.DataRange, 0);
+  return true;
+}
 
-  // Property -> transfer function and block visibility.
+bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& internals = *this->Internals;
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
   const std::string unsupported = avos::UnsupportedPropertySettings(property, true);
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
-    return fail();
+    return false;
   }
-  const bool shade = property->GetShade(0) != 0;
+  internals.Shade = property->GetShade(0) != 0;
   internals.ShadingKey.clear();
-  if (shade)
+  if (internals.Shade)
   {
     const std::string error = PrepareShading(ren, property, this->BlendMode,
       this->IntegrationMethod, internals.Shading, internals.ShadingKey);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Cannot shade: " << error << ".");
-      return fail();
+      return false;
     }
   }
+  // Property -> transfer function and block visibility.
   if (property->GetMTime() != internals.PropertyTime ||
-    this->OpacityModel != internals.OpacityModel || voxel != internals.Voxel ||
+    this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime())
   {
     const std::string error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
+      property, this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       internals.PropertyTime = 0;
-      return fail();
+      return false;
     }
     internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();
     internals.OpacityModel = this->OpacityModel;
-    internals.Voxel = voxel;
+    internals.ClassifiedVoxel = internals.Voxel;
     internals.ClassifyTime.Modified();
   }
+  return this->UpdatePieces();
+}
 
+bool vtkAdaptiveVolumeMapper::UpdatePieces()
+{
+  vtkInternals& internals = *this->Internals;
   // Transfer function -> pieces with polynomial extinction, for the
-  // piecewise methods.
-  // (A shaded reference is the adaptive one: the pieces' closed forms need an
-  // emission that depends on the scalar alone.)
+  // piecewise methods. (A shaded reference is the adaptive one: the pieces'
+  // closed forms need an emission that depends on the scalar alone.)
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
-  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
-    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY && !shade);
-  if (piecewise)
+  internals.Piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
+    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY &&
+      !internals.Shade);
+  if (internals.Piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction
     // model's pieces are exact); the reference never uses the alpha model here.
@@ -1012,354 +591,310 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
         vtkErrorMacro(<< "The piecewise method cannot use this transfer function at tolerance "
                       << this->Tolerance << ": " << error << ".");
         internals.PiecesRelativeError = 0.0;
-        return fail();
+        return false;
       }
       internals.PiecesRelativeError = relativeError;
       internals.PiecesTime.Modified();
     }
   }
-
-  // The data's range: bounds of the trilinear field, and the projections'
-  // normalisation.
-  double dataRange[2];
-  scalars->GetRange(dataRange, 0);
   // The average projection's range, within the data's (VTK's default range
   // is the whole float line), as pieces that mark it.
   if (this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
   {
-    const double r0 = std::max(this->AverageIPScalarRange[0], dataRange[0]);
-    const double r1 = std::min(this->AverageIPScalarRange[1], dataRange[1]);
+    const double r0 = std::max(this->AverageIPScalarRange[0], internals.DataRange[0]);
+    const double r1 = std::min(this->AverageIPScalarRange[1], internals.DataRange[1]);
     // A range beside the data's holds no ray: zero width.
     const std::string error = internals.AverageRange.Build(internals.TF, r0, std::max(r0, r1));
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable average intensity range [" << this->AverageIPScalarRange[0] << ", "
                     << this->AverageIPScalarRange[1] << "]: " << error << ".");
-      return fail();
+      return false;
     }
   }
+  return true;
+}
 
-  // Scalars and transfer function -> the vectorised engine's copies (RIEMANN;
-  // volumes beyond its 32-bit indices take the scalar sum), and the scalars
-  // alone for the piecewise method's cells where they are 8- or 16-bit (no
-  // float copy: the cells' kernel does not take it).
-  // (Shaded sums take the scalar path: the kernels do not shade.)
-  const bool riemannEngine = this->IntegrationMethod == RIEMANN && !shade;
-  const bool cellEngine = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
+bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
+{
+  vtkInternals& internals = *this->Internals;
+  vtkDataArray* scalars = internals.Scalars;
+  // The Riemann kernel's scalars and table (volumes beyond its 32-bit
+  // indices take the scalar sum; shaded sums too: the kernels do not shade),
+  // and the scalars alone for the piecewise method's cells where they are 8-
+  // or 16-bit (no float copy: the cells' kernel does not take it).
+  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade;
+  const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
     avos::EngineVolume::StoredType(scalars->GetDataType()) != avos::engine::Volume::Type::Float32;
-  const avos::engine::Volume* engineScalars =
-    riemannEngine || cellEngine ? internals.EngineScalars.Update(scalars, dims) : nullptr;
-  const avos::engine::Volume* engine = riemannEngine ? engineScalars : nullptr;
-  if (engine && internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
+  const avos::engine::Volume* kernelScalars =
+    riemann || cells ? internals.EngineScalars.Update(scalars, internals.Dimensions) : nullptr;
+  internals.RiemannScalars = riemann ? kernelScalars : nullptr;
+  internals.CellScalars = cells ? kernelScalars : nullptr;
+  if (internals.RiemannScalars &&
+    internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error = internals.EngineTable.Build(internals.TF);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
-      return fail();
+      return false;
     }
     internals.EngineTableTime.Modified();
   }
   // The pieces' table for the piecewise method's ray-per-lane integrator,
   // where it can read the scalars.
-  const bool pieceLanes = cellEngine && engineScalars &&
-    avos::engine::ValidatePiecewiseRays(*engineScalars, internals.Pieces).empty();
-  if (pieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
+  internals.PieceLanes = internals.CellScalars &&
+    avos::engine::ValidatePiecewiseRays(*internals.CellScalars, internals.Pieces).empty();
+  if (internals.PieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
   {
     const std::string error = internals.PieceTable.Build(internals.Pieces);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
-      return fail();
+      return false;
     }
     internals.PieceTableTime.Modified();
   }
+  return true;
+}
 
-  // Frame: camera, viewport, image size and depth buffer.
+bool vtkAdaptiveVolumeMapper::SetUpFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& internals = *this->Internals;
   int viewportWidth, viewportHeight, x0, y0;
   ren->GetTiledSizeAndOrigin(&viewportWidth, &viewportHeight, &x0, &y0);
   if (viewportWidth < 1 || viewportHeight < 1)
   {
-    return fail();
+    return false;
   }
-  double distance = this->ImageSampleDistance;
-  if (this->AutoAdjustSampleDistances)
-  {
-    // What fits the renderer's time for the volume, the cast time taken as
-    // proportional to the number of rays (1 / distance^2).
-    const double budget = vol->GetAllocatedRenderTime();
-    distance = internals.CastDistance;
-    if (internals.CastSeconds > 0.0 && budget > 0.0)
-    {
-      distance *= std::sqrt(internals.CastSeconds / budget);
-    }
-    // Within 10 % of the last distance the last one is kept, so that timing
-    // noise does not resize (and cast again) an unchanged frame; at the
-    // minimum it is exact, so a still render is at full resolution.
-    if (distance > this->MinimumImageSampleDistance &&
-      std::abs(distance - internals.CastDistance) <= 0.1 * internals.CastDistance)
-    {
-      distance = internals.CastDistance;
-    }
-    distance = std::min(std::max(distance, this->MinimumImageSampleDistance),
-      std::max(this->MinimumImageSampleDistance, this->MaximumImageSampleDistance));
-  }
+  const double distance = this->NextImageSampleDistance(vol);
+  internals.Distance = distance;
   const int width = std::max(1, static_cast<int>(std::ceil(viewportWidth / distance - 1e-9)));
   const int height = std::max(1, static_cast<int>(std::ceil(viewportHeight / distance - 1e-9)));
-  FrameGeometry& g = internals.Geometry;
-  g.Rays.Width = width;
-  g.Rays.Height = height;
-  std::copy(dims, dims + 3, g.Rays.Dimensions);
-  g.Rays.Voxel = voxel;
+  avos::engine::Frame& frame = internals.Frame;
+  frame.Rays.Width = width;
+  frame.Rays.Height = height;
+  std::copy(internals.Dimensions, internals.Dimensions + 3, frame.Rays.Dimensions);
+  frame.Rays.Voxel = internals.Voxel;
   internals.ViewportDepth.resize(static_cast<std::size_t>(viewportWidth) * viewportHeight);
   if (!ren->GetRenderWindow()->GetZbufferData(
         x0, y0, x0 + viewportWidth - 1, y0 + viewportHeight - 1, internals.ViewportDepth.data()))
   {
     std::fill(internals.ViewportDepth.begin(), internals.ViewportDepth.end(), 1.0f);
   }
-  // Each ray stops at the depth under its own centre.
-  g.Depth.resize(static_cast<std::size_t>(width) * height);
-  g.Rays.Depth = g.Depth.data();
-  for (int y = 0; y < height; ++y)
-  {
-    const int vy =
-      std::min(static_cast<int>((y + 0.5) * viewportHeight / height), viewportHeight - 1);
-    for (int x = 0; x < width; ++x)
-    {
-      const int vx =
-        std::min(static_cast<int>((x + 0.5) * viewportWidth / width), viewportWidth - 1);
-      g.Depth[static_cast<std::size_t>(y) * width + x] =
-        internals.ViewportDepth[static_cast<std::size_t>(vy) * viewportWidth + vx];
-    }
-  }
+  frame.SampleDepth(internals.ViewportDepth.data(), viewportWidth, viewportHeight);
   vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
     ren->GetTiledAspectRatio(), -1, 1);
-  std::array<double, 16> projectionValues, volumeValues;
-  std::copy(projection->GetData(), projection->GetData() + 16, projectionValues.begin());
-  std::copy(vol->GetMatrix()->GetData(), vol->GetMatrix()->GetData() + 16, volumeValues.begin());
-  const std::array<int, 6> viewport{ { x0, y0, viewportWidth, viewportHeight, width, height } };
+  vtkNew<vtkMatrix4x4> ndcToWorld;
+  vtkMatrix4x4::Invert(projection, ndcToWorld);
+  std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, frame.Rays.NDCToWorld);
+  std::copy(internals.WorldToGrid->GetData(), internals.WorldToGrid->GetData() + 16,
+    frame.Rays.WorldToGrid);
+  frame.Clip = internals.Clip;
+  // Cast only the box's footprint on the screen.
+  frame.SetFootprint(internals.GridToWorld->GetData(), projection->GetData());
 
-  if (internals.HaveImage && projectionValues == internals.Projection &&
-    volumeValues == internals.VolumeMatrix && viewport == internals.Viewport &&
-    g.Depth == internals.LastDepth && clip == g.Clip &&
-    this->GetMTime() == internals.FrameMapperTime &&
-    internals.ClassifyTime.GetMTime() == internals.FrameClassifyTime &&
-    internals.Ranges.GetTime() == internals.FrameRangesTime &&
-    internals.ShadingKey == internals.FrameShadingKey)
+  FrameKey& key = internals.Key;
+  std::copy(projection->GetData(), projection->GetData() + 16, key.Projection.begin());
+  std::copy(internals.GridToWorld->GetData(), internals.GridToWorld->GetData() + 16,
+    key.GridToWorld.begin());
+  key.Viewport = { { x0, y0, viewportWidth, viewportHeight, width, height } };
+  key.Depth = frame.Depth;
+  key.Clip = frame.Clip;
+  key.MapperTime = this->GetMTime();
+  key.ClassifyTime = internals.ClassifyTime.GetMTime();
+  key.RangesTime = internals.Ranges.GetTime();
+  key.Shading = internals.ShadingKey;
+  return true;
+}
+
+double vtkAdaptiveVolumeMapper::NextImageSampleDistance(vtkVolume* vol) const
+{
+  const vtkInternals& internals = *this->Internals;
+  if (!this->AutoAdjustSampleDistances)
   {
-    this->LastRenderReused = true;
+    return this->ImageSampleDistance;
   }
-  else
+  // What fits the renderer's time for the volume, the cast time taken as
+  // proportional to the number of rays (1 / distance^2).
+  const double budget = vol->GetAllocatedRenderTime();
+  double distance = internals.CastDistance;
+  if (internals.CastSeconds > 0.0 && budget > 0.0)
   {
-    vtkNew<vtkMatrix4x4> ndcToWorld;
-    vtkMatrix4x4::Invert(projection, ndcToWorld);
-    std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, g.Rays.NDCToWorld);
-    std::copy(worldToGrid->GetData(), worldToGrid->GetData() + 16, g.Rays.WorldToGrid);
-    g.Clip = clip;
+    distance *= std::sqrt(internals.CastSeconds / budget);
+  }
+  // Within 10 % of the last distance the last one is kept, so that timing
+  // noise does not resize (and cast again) an unchanged frame; at the
+  // minimum it is exact, so a still render is at full resolution.
+  if (distance > this->MinimumImageSampleDistance &&
+    std::abs(distance - internals.CastDistance) <= 0.1 * internals.CastDistance)
+  {
+    distance = internals.CastDistance;
+  }
+  return std::min(std::max(distance, this->MinimumImageSampleDistance),
+    std::max(this->MinimumImageSampleDistance, this->MaximumImageSampleDistance));
+}
 
-    // Cast only the box's footprint on the screen (all of it when a corner
-    // is behind the eye).
-    g.Rect[0] = width;
-    g.Rect[1] = 0;
-    g.Rect[2] = height;
-    g.Rect[3] = 0;
-    bool footprint = true;
-    for (int c = 0; c < 8 && footprint; ++c)
+void vtkAdaptiveVolumeMapper::SetUpMethod()
+{
+  vtkInternals& internals = *this->Internals;
+  avos::engine::FrameMethod& method = internals.Method;
+  method = avos::engine::FrameMethod();
+  const avos::engine::Integration kinds[] = { avos::engine::Integration::Riemann,
+    avos::engine::Integration::AdaptiveCoupled, avos::engine::Integration::AdaptiveDecoupled,
+    avos::engine::Integration::Reference, avos::engine::Integration::Piecewise };
+  method.Kind = kinds[this->IntegrationMethod];
+  method.Mode = EngineBlend(this->BlendMode);
+  method.Adaptive = internals.Adaptive;
+  // Trilinear values never leave the data's range.
+  method.Adaptive.FieldMinimum = internals.DataRange[0];
+  method.Adaptive.FieldMaximum = internals.DataRange[1];
+  method.SampleDistance = this->SampleDistance;
+  method.TerminationBound = 0.2 * this->Tolerance;
+  method.TF = &internals.TF;
+  method.Map = this->EmptySpaceSkipping ? &internals.Ranges.GetMap() : nullptr;
+  method.Range = &internals.AverageRange;
+  method.ScalarMinimum = internals.DataRange[0];
+  // A constant volume: any positive span gives n = 0 everywhere.
+  method.ScalarMaximum = internals.DataRange[1] > internals.DataRange[0]
+    ? internals.DataRange[1]
+    : internals.DataRange[0] + 1.0;
+  method.Pieces = internals.Piecewise ? &internals.Pieces : nullptr;
+  method.EngineVolume = internals.RiemannScalars;
+  method.EngineTable = internals.RiemannScalars ? &internals.EngineTable : nullptr;
+  method.Kernels = avos::engine::PieceKernels(internals.CellScalars);
+  method.PieceTable = internals.PieceLanes ? &internals.PieceTable : nullptr;
+  if (internals.Shade)
+  {
+    method.Shading = &internals.Shading;
+    const double* worldToGrid = internals.Frame.Rays.WorldToGrid;
+    for (int r = 0; r < 3; ++r)
     {
-      const glm::dvec4 corner((c & 1) * (dims[0] - 1.0), ((c >> 1) & 1) * (dims[1] - 1.0),
-        ((c >> 2) & 1) * (dims[2] - 1.0), 1.0);
-      const glm::dvec4 world = Multiply(gridToWorld->GetData(), corner);
-      const glm::dvec4 onScreen = Multiply(projection->GetData(), world);
-      if (!(onScreen.w > 0.0))
+      for (int c = 0; c < 3; ++c)
       {
-        footprint = false;
-        break;
-      }
-      const double px = (onScreen.x / onScreen.w + 1.0) * 0.5 * width;
-      const double py = (onScreen.y / onScreen.w + 1.0) * 0.5 * height;
-      g.Rect[0] = std::min(g.Rect[0], static_cast<int>(std::max(std::floor(px), -1.0)));
-      g.Rect[1] = std::max(g.Rect[1], static_cast<int>(std::min(std::ceil(px) + 1, width + 1.0)));
-      g.Rect[2] = std::min(g.Rect[2], static_cast<int>(std::max(std::floor(py), -1.0)));
-      g.Rect[3] = std::max(g.Rect[3], static_cast<int>(std::min(std::ceil(py) + 1, height + 1.0)));
-    }
-    if (!footprint)
-    {
-      g.Rect[0] = g.Rect[2] = 0;
-      g.Rect[1] = width;
-      g.Rect[3] = height;
-    }
-    g.Rect[0] = std::max(g.Rect[0], 0);
-    g.Rect[2] = std::max(g.Rect[2], 0);
-    g.Rect[1] = std::min(g.Rect[1], width);
-    g.Rect[3] = std::min(g.Rect[3], height);
-
-    // The image.
-    internals.Image->SetDimensions(width, height, 1);
-    vtkNew<vtkFloatArray> rgba;
-    rgba->SetName("RGBA");
-    rgba->SetNumberOfComponents(4);
-    rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
-    rgba->Fill(0.0);
-    internals.Image->GetPointData()->SetScalars(rgba);
-    float* image = rgba->GetPointer(0);
-
-    Method method;
-    method.Kind = this->IntegrationMethod;
-    method.Blend = this->BlendMode;
-    method.Adaptive = adaptive;
-    // Trilinear values never leave the data's range.
-    method.Adaptive.FieldMinimum = dataRange[0];
-    method.Adaptive.FieldMaximum = dataRange[1];
-    method.SampleDistance = this->SampleDistance;
-    method.TerminationBound = 0.2 * this->Tolerance;
-    method.Range = &internals.AverageRange;
-    method.ScalarMinimum = dataRange[0];
-    // A constant volume: any positive span gives n = 0 everywhere.
-    method.ScalarMaximum = dataRange[1] > dataRange[0] ? dataRange[1] : dataRange[0] + 1.0;
-    method.Pieces = piecewise ? &internals.Pieces : nullptr;
-    method.EngineVolume = engine;
-    method.EngineTable = engine ? &internals.EngineTable : nullptr;
-    method.Kernels = avos::engine::PieceKernels(cellEngine ? engineScalars : nullptr);
-    method.PieceTable = pieceLanes ? &internals.PieceTable : nullptr;
-    if (shade)
-    {
-      method.Shading = &internals.Shading;
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          // glm is column-major: m[column][row]. The normal matrix is the
-          // transpose of world-to-grid's linear part.
-          method.NormalMatrix[r][c] = g.Rays.WorldToGrid[4 * r + c];
-        }
-      }
-      method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
-    }
-
-    vtkSMPThreadLocal<ThreadStatistics> statistics;
-    vtkSMPThreadLocal<RayBuffers> buffers;
-    const an::EmptySpaceMap<double>* map =
-      this->EmptySpaceSkipping ? &internals.Ranges.GetMap() : nullptr;
-    bool aborted = false;
-    auto cast = [&](auto* data)
-    {
-      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      const vtkIdType tiles =
-        static_cast<vtkIdType>((g.Rect[3] - g.Rect[2] + TileSize - 1) / TileSize) *
-        ((g.Rect[1] - g.Rect[0] + TileSize - 1) / TileSize);
-      avos::WorkMonitor monitor;
-      RayCaster<Storage> caster(
-        data, g, internals.TF, map, method, image, statistics, buffers, monitor);
-      // Progress and the render window's abort check (an interactor's, or
-      // avos-render's Ctrl-C) every WorkMonitor::Interval, whatever the SMP
-      // backend; an abort takes effect within that plus one tile per thread.
-      aborted = !monitor.Run(
-                  tiles, [&] { vtkSMPTools::For(0, tiles, 1, caster); },
-                  [this, ren](double fraction)
-                  {
-                    this->UpdateProgress(fraction);
-                    return ren->GetRenderWindow()->CheckAbortStatus() != 0;
-                  }) ||
-        ren->GetRenderWindow()->CheckAbortStatus() != 0;
-      if (!aborted)
-      {
-        this->UpdateProgress(1.0);
-      }
-    };
-    // (With every block transparent nothing composites; the projections
-    // still show the volume: an opaque black or grey.)
-    if (!map || internals.VisibleBlocks > 0 || this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
-    {
-      switch (scalars->GetDataType())
-      {
-        vtkTemplateMacro(cast(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+        // glm is column-major: m[column][row]. The normal matrix is the
+        // transpose of world-to-grid's linear part.
+        method.NormalMatrix[r][c] = worldToGrid[4 * r + c];
       }
     }
+    method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
+  }
+}
+
+bool vtkAdaptiveVolumeMapper::CastFrame(vtkRenderer* ren)
+{
+  vtkInternals& internals = *this->Internals;
+  const avos::engine::Frame& frame = internals.Frame;
+  const int width = frame.Rays.Width, height = frame.Rays.Height;
+  internals.Image->SetDimensions(width, height, 1);
+  vtkNew<vtkFloatArray> rgba;
+  rgba->SetName("RGBA");
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(static_cast<vtkIdType>(width) * height);
+  rgba->Fill(0.0);
+  internals.Image->GetPointData()->SetScalars(rgba);
+  float* image = rgba->GetPointer(0);
+  this->SetUpMethod();
+  const avos::engine::FrameMethod& method = internals.Method;
+  const std::string invalid = avos::engine::Validate(internals.View, method);
+  if (!invalid.empty())
+  {
+    vtkErrorMacro(<< "Cannot cast the frame: " << invalid << ".");
+    return false;
+  }
+  avos::engine::FrameStatistics statistics;
+  // (With every block transparent nothing composites; the projections
+  // still show the volume: an opaque black or grey.)
+  if (!method.Map || internals.VisibleBlocks > 0 ||
+    this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    avos::engine::WorkMonitor monitor;
+    // Progress and the render window's abort check (an interactor's, or
+    // avos-render's Ctrl-C) every WorkMonitor::Interval, whatever the SMP
+    // backend; an abort takes effect within that plus one tile per thread.
+    const bool aborted = !monitor.Run(
+                           avos::engine::FrameCaster::Tiles(frame),
+                           [&] {
+                             statistics = internals.Caster.Cast(
+                               frame, internals.View, method, image, ParallelFor, monitor);
+                           },
+                           [this, ren](double fraction)
+                           {
+                             this->UpdateProgress(fraction);
+                             return ren->GetRenderWindow()->CheckAbortStatus() != 0;
+                           }) ||
+      ren->GetRenderWindow()->CheckAbortStatus() != 0;
     if (aborted)
     {
-      return fail();
+      return false;
     }
-
-    ThreadStatistics total;
-    for (const ThreadStatistics& s : statistics)
-    {
-      total.Rays += s.Rays;
-      total.Samples += s.Samples;
-      total.MaximumSamples = std::max(total.MaximumSamples, s.MaximumSamples);
-      total.Rejected += s.Rejected;
-      total.Cells += s.Cells;
-      total.Pieces += s.Pieces;
-      total.Failed += s.Failed;
-      if (total.FirstError.empty())
-      {
-        total.FirstError = s.FirstError;
-      }
-    }
-    if (total.Failed > 0)
-    {
-      // No silent holes: the frame is refused with what went wrong.
-      vtkErrorMacro(<< total.Failed << " ray(s) could not be integrated: " << total.FirstError
-                    << ".");
-      return fail();
-    }
-    this->RaysCast = total.Rays;
-    this->MeanSamplesPerRay =
-      total.Rays > 0 ? static_cast<double>(total.Samples) / static_cast<double>(total.Rays) : 0.0;
-    this->MaximumSamplesPerRay = total.MaximumSamples;
-    this->RejectedSteps = total.Rejected;
-    const double rays = static_cast<double>(std::max<vtkIdType>(total.Rays, 1));
-    this->MeanCellsPerRay = static_cast<double>(total.Cells) / rays;
-    this->MeanPiecesPerRay = static_cast<double>(total.Pieces) / rays;
-
-    // 16-bit premultiplied RGBA for the display helper, in parallel (a
-    // serial pass over the image weighed on two threads). v * 65535 + 0.5
-    // is exact in float for v in [0, 1] (at most 8 fractional bits there),
-    // so truncating it rounds as lround did; NaN gives 0.
-    internals.Display.resize(4 * static_cast<std::size_t>(width) * height);
-    std::uint16_t* display = internals.Display.data();
-    vtkSMPTools::For(0, static_cast<vtkIdType>(internals.Display.size()),
-      [display, image](vtkIdType begin, vtkIdType end)
-      {
-        for (vtkIdType i = begin; i < end; ++i)
-        {
-          const float v = image[i] > 0.0f ? std::min(image[i], 1.0f) : 0.0f;
-          display[i] = static_cast<std::uint16_t>(v * 65535.0f + 0.5f);
-        }
-      });
-
-    internals.Projection = projectionValues;
-    internals.VolumeMatrix = volumeValues;
-    internals.Viewport = viewport;
-    internals.LastDepth = g.Depth;
-    internals.FrameMapperTime = this->GetMTime();
-    internals.FrameClassifyTime = internals.ClassifyTime.GetMTime();
-    internals.FrameRangesTime = internals.Ranges.GetTime();
-    internals.HaveImage = true;
-    internals.FrameScalars = scalars;
-    internals.FrameMethod = method;
-    internals.FrameSkipping = map != nullptr;
-    internals.FrameShadingKey = internals.ShadingKey;
-    internals.CastDistance = distance;
-    timer->StopTimer();
-    internals.CastSeconds = timer->GetElapsedTime();
-    this->LastImageSampleDistance = distance;
+    this->UpdateProgress(1.0);
   }
-
-  if (internals.DisplayHelper)
+  if (statistics.Failed > 0)
   {
-    int size[2] = { width, height };
-    int origin[2] = { 0, 0 };
-    // In front of everything: occlusion by opaque geometry is already in
-    // the image (rays stop at the depth buffer).
-    internals.DisplayHelper->RenderTexture(
-      vol, ren, size, size, size, origin, 1e-6f, internals.Display.data());
+    // No silent holes: the frame is refused with what went wrong.
+    vtkErrorMacro(<< statistics.Failed
+                  << " ray(s) could not be integrated: " << statistics.FirstError << ".");
+    return false;
   }
-  else
+  this->PublishStatistics(statistics.Rays, statistics.Samples, statistics.MaximumSamples,
+    statistics.Rejected, statistics.Cells, statistics.Pieces);
+  this->ConvertForDisplay(image, 4 * static_cast<std::size_t>(width) * height);
+  internals.LastKey = internals.Key;
+  internals.HaveImage = true;
+  internals.FrameScalars = internals.Scalars;
+  internals.CastDistance = internals.Distance;
+  this->LastImageSampleDistance = internals.Distance;
+  return true;
+}
+
+void vtkAdaptiveVolumeMapper::PublishStatistics(vtkIdType rays, vtkIdType samples,
+  vtkIdType maximumSamples, vtkIdType rejected, vtkIdType cells, vtkIdType pieces)
+{
+  this->RaysCast = rays;
+  this->MeanSamplesPerRay =
+    rays > 0 ? static_cast<double>(samples) / static_cast<double>(rays) : 0.0;
+  this->MaximumSamplesPerRay = maximumSamples;
+  this->RejectedSteps = rejected;
+  const double count = static_cast<double>(std::max<vtkIdType>(rays, 1));
+  this->MeanCellsPerRay = static_cast<double>(cells) / count;
+  this->MeanPiecesPerRay = static_cast<double>(pieces) / count;
+}
+
+void vtkAdaptiveVolumeMapper::ConvertForDisplay(const float* image, std::size_t values)
+{
+  // 16-bit premultiplied RGBA for the display helper, in parallel (a serial
+  // pass over the image weighed on two threads). v * 65535 + 0.5 is exact in
+  // float for v in [0, 1] (at most 8 fractional bits there), so truncating
+  // it rounds as lround did; NaN gives 0.
+  std::vector<std::uint16_t>& display = this->Internals->Display;
+  display.resize(values);
+  std::uint16_t* out = display.data();
+  vtkSMPTools::For(0, static_cast<vtkIdType>(values),
+    [out, image](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        const float v = image[i] > 0.0f ? std::min(image[i], 1.0f) : 0.0f;
+        out[i] = static_cast<std::uint16_t>(v * 65535.0f + 0.5f);
+      }
+    });
+}
+
+void vtkAdaptiveVolumeMapper::DisplayFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  vtkInternals& internals = *this->Internals;
+  if (!internals.DisplayHelper)
   {
     vtkErrorMacro(<< "No ray cast image display helper: is VTK::RenderingVolumeOpenGL2 linked?");
+    return;
   }
-  timer->StopTimer();
-  this->LastRenderTime = timer->GetElapsedTime();
+  int size[2] = { internals.Frame.Rays.Width, internals.Frame.Rays.Height };
+  int origin[2] = { 0, 0 };
+  // In front of everything: occlusion by opaque geometry is already in the
+  // image (rays stop at the depth buffer).
+  internals.DisplayHelper->RenderTexture(
+    vol, ren, size, size, size, origin, 1e-6f, internals.Display.data());
 }
 
 bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
@@ -1371,40 +906,27 @@ bool vtkAdaptiveVolumeMapper::TraceRay(int x, int y, vtkTable* steps)
   }
   steps->Initialize();
   vtkInternals& internals = *this->Internals;
-  const FrameGeometry& g = internals.Geometry;
+  const avos::engine::Frame& frame = internals.Frame;
   if (!internals.HaveImage)
   {
     vtkErrorMacro(<< "TraceRay re-casts a pixel of the last render: there is none.");
     return false;
   }
-  if (internals.FrameMethod.Kind == REFERENCE)
+  if (internals.Method.Kind == avos::engine::Integration::Reference)
   {
     vtkErrorMacro(<< "The reference method records no steps to trace.");
     return false;
   }
-  if (x < 0 || y < 0 || x >= g.Rays.Width || y >= g.Rays.Height)
+  if (x < 0 || y < 0 || x >= frame.Rays.Width || y >= frame.Rays.Height)
   {
-    vtkErrorMacro(<< "Pixel (" << x << ", " << y << ") is outside the " << g.Rays.Width << " x "
-                  << g.Rays.Height << " image.");
+    vtkErrorMacro(<< "Pixel (" << x << ", " << y << ") is outside the " << frame.Rays.Width << " x "
+                  << frame.Rays.Height << " image.");
     return false;
   }
   std::vector<an::StepRecord<double>> records;
   an::RayResult<double> result;
-  RayBuffers buffers;
-  bool hit = false;
-  auto trace = [&](auto* data)
-  {
-    using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-    const an::TrilinearVolume<double, Storage> volume(data, g.Rays.Dimensions);
-    hit = IntegratePixel(volume, g, internals.TF,
-      internals.FrameSkipping ? &internals.Ranges.GetMap() : nullptr, internals.FrameMethod, x, y,
-      buffers, result, &records);
-  };
-  vtkDataArray* scalars = internals.FrameScalars;
-  switch (scalars->GetDataType())
-  {
-    vtkTemplateMacro(trace(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
-  }
+  const bool hit = avos::engine::FrameCaster::TracePixel(
+    frame, internals.View, internals.Method, x, y, result, &records);
   const char* names[3] = { "Start", "Length", "Opacity" };
   vtkNew<vtkDoubleArray> columns[3];
   for (int c = 0; c < 3; ++c)

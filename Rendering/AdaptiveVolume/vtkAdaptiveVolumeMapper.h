@@ -266,6 +266,42 @@ protected:
   vtkAdaptiveVolumeMapper();
   ~vtkAdaptiveVolumeMapper() override;
 
+  ///@{
+  /**
+   * The stages of Render, in the order data flows, as
+   * vtkFixedPointVolumeRayCastMapper's: the settings, the input, its grid in
+   * world space and the clip region, what depends on the scalars (the
+   * empty-space map's ranges), what depends on the property (the transfer
+   * function, the blocks' visibility, the shading, the pieces), the kernels'
+   * tables, the frame (image size, depth buffer, rays, footprint), the ray
+   * cast (skipped when nothing the last image depends on changed), the
+   * display. Each stage keeps its caches with the timestamps that say when to
+   * rebuild them, and returns false, with an error where something is wrong,
+   * when the frame cannot be drawn.
+   */
+  bool ValidateSettings();
+  vtkImageData* UpdateInput();
+  bool UpdateGeometry(vtkImageData* input, vtkVolume* vol);
+  bool UpdateScalars();
+  bool UpdateProperty(vtkRenderer* ren, vtkVolume* vol);
+  bool UpdatePieces();
+  bool UpdateKernelTables();
+  bool SetUpFrame(vtkRenderer* ren, vtkVolume* vol);
+  bool CastFrame(vtkRenderer* ren);
+  void DisplayFrame(vtkRenderer* ren, vtkVolume* vol);
+  ///@}
+
+  /// The image sample distance of the next frame: ImageSampleDistance, or
+  /// with AutoAdjustSampleDistances what fits the volume's allocated render
+  /// time at the last cast's speed.
+  double NextImageSampleDistance(vtkVolume* vol) const;
+  /// The cast's method from the settings and the stages' tables.
+  void SetUpMethod();
+  void PublishStatistics(vtkIdType rays, vtkIdType samples, vtkIdType maximumSamples,
+    vtkIdType rejected, vtkIdType cells, vtkIdType pieces);
+  /// The float image as the display helper's 16-bit RGBA.
+  void ConvertForDisplay(const float* image, std::size_t values);
+
   int IntegrationMethod = ADAPTIVE_COUPLED;
   int OpacityModel = VTK_OPACITY;
   double Tolerance = 0.01;

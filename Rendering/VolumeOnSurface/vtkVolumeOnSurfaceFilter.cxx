@@ -18,8 +18,9 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolumeProperty.h"
 
-#include "avosMonitoredWork.h"
 #include "avosVolumeRay.h"
+
+#include "avos/engine/WorkMonitor.h"
 
 #include <algorithm>
 #include <array>
@@ -358,7 +359,7 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
     const double sign = this->FlipNormals ? -1.0 : 1.0;
     const int perCone = this->RaysPerCone;
-    avos::WorkMonitor monitor;
+    avos::engine::WorkMonitor monitor;
     avos::RayFailures failures;
     auto previsualize = [&](const auto& caster)
     {

@@ -1,28 +1,29 @@
 // Long parallel work that reports progress and can be aborted, whatever the
-// SMP backend: the work runs on a worker thread (which hands it to
-// vtkSMPTools), while the calling thread, which owns VTK's events, the
-// algorithm's progress and the render window, polls every `Interval`.
-#ifndef avosMonitoredWork_h
-#define avosMonitoredWork_h
-
-#include "avosRenderingAdaptiveVolumeModule.h" // For export macro
-#include "vtkType.h"
+// parallel loop's backend (VTK-free): the work runs on a worker thread (which
+// hands it to the caller's loop, vtkSMPTools in the VTK classes), while the
+// calling thread, which owns the GUI's events, the progress and the render
+// window, polls every `Interval`.
+#ifndef avos_engine_WorkMonitor_h
+#define avos_engine_WorkMonitor_h
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 
 namespace avos
 {
+namespace engine
+{
 // What the work and the polling thread share: the items done (for progress)
 // and the request to abort. The work adds to Done as it finishes items and
 // stops taking new ones once Aborted() is true.
-class AVOSRENDERINGADAPTIVEVOLUME_EXPORT WorkMonitor
+class WorkMonitor
 {
 public:
   static constexpr std::chrono::milliseconds Interval{ 100 };
 
-  void Finished(vtkIdType items) { this->Done.fetch_add(items, std::memory_order_relaxed); }
+  void Finished(std::int64_t items) { this->Done.fetch_add(items, std::memory_order_relaxed); }
   bool Aborted() const { return this->Abort.load(std::memory_order_relaxed); }
 
   /// Runs `work` on a worker thread; every Interval until it returns, calls
@@ -31,12 +32,13 @@ public:
   /// True when the work ran to its end without an abort request. An abort
   /// takes effect within one Interval plus the item each thread is on.
   bool Run(
-    vtkIdType total, const std::function<void()>& work, const std::function<bool(double)>& poll);
+    std::int64_t total, const std::function<void()>& work, const std::function<bool(double)>& poll);
 
 private:
-  std::atomic<vtkIdType> Done{ 0 };
+  std::atomic<std::int64_t> Done{ 0 };
   std::atomic<bool> Abort{ false };
 };
+} // namespace engine
 } // namespace avos
 
 #endif

@@ -1,4 +1,4 @@
-#include "avosMonitoredWork.h"
+#include "avos/engine/WorkMonitor.h"
 
 #include <condition_variable>
 #include <exception>
@@ -7,8 +7,10 @@
 
 namespace avos
 {
+namespace engine
+{
 bool WorkMonitor::Run(
-  vtkIdType total, const std::function<void()>& work, const std::function<bool(double)>& poll)
+  std::int64_t total, const std::function<void()>& work, const std::function<bool(double)>& poll)
 {
   std::mutex mutex;
   std::condition_variable finished;
@@ -50,4 +52,5 @@ bool WorkMonitor::Run(
   }
   return !this->Aborted();
 }
+} // namespace engine
 } // namespace avos

@@ -1,0 +1,438 @@
+// The frame engine (avos/engine/Frame.h) without VTK: every pixel of a
+// frame cast by FrameCaster against the numerics core on the same ray
+// (PixelRay, the map's segments, the clip region's parts, then the core's
+// integrator in double on the double volume), for the methods' fast paths
+// (a ray per lane of the piecewise and Riemann kernels) and a ray at a time
+// (clipped, adaptive, maximum intensity); the footprint holds every pixel
+// whose ray meets the box; scalars are read in place for every type; a
+// threaded loop gives the serial loop's image to the bit.
+#include "AdversarialCases.h"
+
+#include "avos/engine/Frame.h"
+#include "avos/numerics/Extremum.h"
+#include "avos/numerics/Volume.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace an = avos::numerics;
+namespace ae = avos::engine;
+
+namespace
+{
+constexpr int Width = 64, Height = 48;
+
+// A smooth 40^3 volume of integers in [0, 255] (exact in every storage
+// type), a transfer function with integer knots (the kernels' unit tables),
+// and a camera looking at it obliquely, in perspective, from outside.
+struct Scene
+{
+  adversarial::Case Case;
+  std::vector<std::uint8_t> Bytes; // padded for the kernels
+  an::EmptySpaceMap<double> Map;
+  ae::Frame Frame;
+  double GridToWorld[16];
+  double Projection[16];
+
+  Scene()
+  {
+    this->Case = adversarial::MakeVolume("smooth", adversarial::Smooth, 3);
+    for (double& v : this->Case.Data)
+    {
+      v = std::round(v);
+    }
+    this->Case.TF = adversarial::Random(4, 12, 2.0, 255.0, true);
+    this->Bytes.assign(this->Case.Data.begin(), this->Case.Data.end());
+    this->Bytes.resize(this->Bytes.size() + ae::Volume::Padding, 0);
+    this->Map.SetDimensions(this->Case.Dimensions);
+    this->Map.ComputeRanges(this->Case.Data.data(), 0, this->Map.GetNumberOfBlocks(2));
+    this->Map.Classify(this->Case.TF);
+
+    // World = grid coordinates scaled by 0.5 (a voxel unit is 0.5 world units).
+    const glm::dmat4 gridToWorld = glm::scale(glm::dmat4(1.0), glm::dvec3(0.5));
+    const glm::dmat4 view = glm::lookAt(
+      glm::dvec3(-14.0, 31.0, 45.0), glm::dvec3(9.5, 10.0, 9.0), glm::dvec3(0.0, 1.0, 0.0));
+    const glm::dmat4 projection =
+      glm::perspective(glm::radians(40.0), double(Width) / Height, 5.0, 200.0) * view;
+    ToRowMajor(gridToWorld, this->GridToWorld);
+    ToRowMajor(projection, this->Projection);
+    ae::FrameRays& rays = this->Frame.Rays;
+    ToRowMajor(glm::inverse(projection), rays.NDCToWorld);
+    ToRowMajor(glm::inverse(gridToWorld), rays.WorldToGrid);
+    rays.Voxel = 0.5;
+    std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, rays.Dimensions);
+    rays.Width = Width;
+    rays.Height = Height;
+    // An opaque object in front of part of the volume (depth 0.97) over a
+    // quarter of the viewport, the far plane elsewhere; the viewport is
+    // twice the frame's size.
+    std::vector<float> viewport(4 * Width * Height, 1.0f);
+    for (int y = 0; y < Height; ++y)
+    {
+      for (int x = 0; x < Width; ++x)
+      {
+        viewport[static_cast<std::size_t>(y) * 2 * Width + x] = 0.97f;
+      }
+    }
+    this->Frame.SampleDepth(viewport.data(), 2 * Width, 2 * Height);
+    this->Frame.SetFootprint(this->GridToWorld, this->Projection);
+  }
+
+  static void ToRowMajor(const glm::dmat4& m, double out[16])
+  {
+    for (int r = 0; r < 4; ++r)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        out[4 * r + c] = m[c][r];
+      }
+    }
+  }
+
+  ae::Scalars Doubles() const
+  {
+    ae::Scalars s;
+    s.Data = this->Case.Data.data();
+    s.Type = ae::ScalarType::Float64;
+    std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, s.Dimensions);
+    return s;
+  }
+
+  ae::Volume EngineBytes() const
+  {
+    ae::Volume v;
+    v.Data = this->Bytes.data();
+    v.Scalars = ae::Volume::Type::UInt8;
+    std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, v.Dimensions);
+    return v;
+  }
+};
+
+void Serial(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
+{
+  for (std::int64_t i = 0; i < count; ++i)
+  {
+    body(i, i + 1);
+  }
+}
+
+void Threaded(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
+{
+  std::atomic<std::int64_t> next{ 0 };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+  {
+    threads.emplace_back(
+      [&]
+      {
+        for (std::int64_t i; (i = next.fetch_add(3)) < count;)
+        {
+          body(i, std::min(i + 3, count));
+        }
+      });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+}
+
+std::vector<float> Cast(const Scene& scene, const ae::Scalars& scalars,
+  const ae::FrameMethod& method, const ae::ParallelFor& loop, ae::FrameStatistics* stats = nullptr)
+{
+  EXPECT_EQ(ae::Validate(scalars, method), "");
+  std::vector<float> image(4 * Width * Height, 0.0f);
+  ae::FrameCaster caster;
+  ae::WorkMonitor monitor;
+  const ae::FrameStatistics s =
+    caster.Cast(scene.Frame, scalars, method, image.data(), loop, monitor);
+  EXPECT_EQ(s.Failed, 0) << s.FirstError;
+  if (stats)
+  {
+    *stats = s;
+  }
+  return image;
+}
+
+// The core's RGBA for pixel (x, y); false when its ray misses the box.
+template <typename Integrate>
+bool CoreRay(const Scene& scene, const ae::FrameMethod& method, int x, int y,
+  const Integrate& integrate, glm::dvec4& rgba)
+{
+  glm::dvec3 origin, direction;
+  double D;
+  if (!ae::PixelRay(scene.Frame.Rays, x, y, &origin.x, &direction.x, D))
+  {
+    return false;
+  }
+  std::vector<an::Interval<double>> segments{ { 0.0, D } }, kept, clipped;
+  if (method.Map && method.Mode == ae::Blend::Composite)
+  {
+    method.Map->Segments(origin, direction, D, ae::SegmentPad, segments);
+  }
+  if (!scene.Frame.Clip.IsEmpty())
+  {
+    scene.Frame.Clip.Kept(origin, direction, D, kept);
+    an::ClipRegion<double>::Intersect(segments, kept, clipped);
+    segments = clipped;
+  }
+  rgba = segments.empty() ? glm::dvec4(0.0) : integrate(origin, direction, D, segments);
+  return true;
+}
+
+// The largest difference of any channel over the image between the frame
+// and the core, and how many pixels the rays met the box at.
+template <typename Integrate>
+double Compare(const Scene& scene, const ae::FrameMethod& method, const std::vector<float>& image,
+  const Integrate& integrate, int& hits, double& opacity)
+{
+  double worst = 0.0;
+  hits = 0;
+  opacity = 0.0;
+  for (int y = 0; y < Height; ++y)
+  {
+    for (int x = 0; x < Width; ++x)
+    {
+      const float* pixel = &image[4 * (static_cast<std::size_t>(y) * Width + x)];
+      glm::dvec4 rgba(0.0);
+      const bool hit = CoreRay(scene, method, x, y, integrate, rgba);
+      const int* r = scene.Frame.Rect;
+      if (hit)
+      {
+        ++hits;
+        EXPECT_TRUE(x >= r[0] && x < r[1] && y >= r[2] && y < r[3])
+          << "pixel " << x << ", " << y << " meets the box outside the footprint";
+      }
+      for (int c = 0; c < 4; ++c)
+      {
+        // A pixel whose ray misses the box is left as it was (zero).
+        worst = std::max(worst, std::abs(pixel[c] - (hit ? rgba[c] : 0.0)));
+      }
+      opacity = std::max(opacity, rgba.a);
+    }
+  }
+  return worst;
+}
+
+// The float image's rounding of the core's double values.
+constexpr double ImageRounding = 6e-8;
+
+TEST(Frame, PiecewiseRaysPerLaneMatchTheCore)
+{
+  const Scene scene;
+  for (const double eps : { 1e-3, 1e-2 })
+  {
+    an::PiecewiseTransferFunction<double> pieces;
+    ASSERT_EQ(pieces.Build(scene.Case.TF, an::PiecewiseRelativeError(eps)), "");
+    const ae::Volume bytes = scene.EngineBytes();
+    ASSERT_EQ(ae::ValidatePiecewiseRays(bytes, pieces), "");
+    ae::PiecewiseTable table;
+    ASSERT_EQ(table.Build(pieces), "");
+    ae::FrameMethod method;
+    method.Kind = ae::Integration::Piecewise;
+    method.Adaptive.Tolerance = eps;
+    method.TF = &scene.Case.TF;
+    method.Map = &scene.Map;
+    method.Pieces = &pieces;
+    method.Kernels = ae::PieceKernels(&bytes);
+    method.PieceTable = &table;
+    ae::Scalars scalars = scene.Doubles();
+    scalars.Data = scene.Bytes.data();
+    scalars.Type = ae::ScalarType::UInt8;
+    ae::FrameStatistics stats;
+    const std::vector<float> image = Cast(scene, scalars, method, Serial, &stats);
+    const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
+    int hits = 0;
+    double opacity = 0.0;
+    const double error = Compare(
+      scene, method, image,
+      [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
+      {
+        return an::IntegratePiecewise(volume, o, d, segments.data(), segments.size(), pieces, eps)
+          .RGBA;
+      },
+      hits, opacity);
+    // Lanes against a ray at a time: 8.9e-16 (Engine's RaysPerLane tests).
+    EXPECT_LE(error, ImageRounding + 1e-12) << "eps " << eps;
+    EXPECT_GT(hits, Width * Height / 4);
+    EXPECT_GT(opacity, 0.5);
+    EXPECT_EQ(stats.Rays, hits);
+    EXPECT_GT(stats.Pieces, stats.Rays);
+  }
+}
+
+TEST(Frame, RiemannRaysPerLaneMatchTheCore)
+{
+  const Scene scene;
+  const ae::Volume bytes = scene.EngineBytes();
+  ae::TransferTable table;
+  ASSERT_EQ(table.Build(scene.Case.TF), "");
+  ae::FrameMethod method;
+  method.Kind = ae::Integration::Riemann;
+  method.SampleDistance = 0.5;
+  method.TF = &scene.Case.TF;
+  method.Map = &scene.Map;
+  method.EngineVolume = &bytes;
+  method.EngineTable = &table;
+  const std::vector<float> image = Cast(scene, scene.Doubles(), method, Serial);
+  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
+  int hits = 0;
+  double opacity = 0.0;
+  const double error = Compare(
+    scene, method, image,
+    [&](const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
+    {
+      const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, o, d };
+      return an::IntegrateRiemann(field, scene.Case.TF, D, 0.5, an::RiemannForm::Exponential,
+        segments.data(), segments.size(), 0.0)
+        .RGBA;
+    },
+    hits, opacity);
+  // The float kernel's bound against the double sum (Riemann.h).
+  EXPECT_LE(error, 1e-4);
+  EXPECT_GT(opacity, 0.5);
+}
+
+TEST(Frame, ClippedAdaptiveRaysMatchTheCoreForEveryScalarType)
+{
+  Scene scene;
+  // A plane through the volume's middle, keeping the side towards +x + y.
+  scene.Frame.Clip.AddPlane(glm::normalize(glm::dvec3(1.0, 1.0, 0.0)), -std::sqrt(2.0) * 19.5);
+  ae::FrameMethod method;
+  method.Kind = ae::Integration::AdaptiveCoupled;
+  method.Adaptive.Tolerance = 1e-3;
+  method.Adaptive.FieldMinimum = 0.0;
+  method.Adaptive.FieldMaximum = 255.0;
+  method.TF = &scene.Case.TF;
+  method.Map = &scene.Map;
+  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
+  // Each type's copy of the integer values: the same field in double.
+  const auto typed = [&](auto zero, ae::ScalarType type)
+  {
+    std::vector<decltype(zero)> data(scene.Case.Data.begin(), scene.Case.Data.end());
+    ae::Scalars scalars = scene.Doubles();
+    scalars.Data = data.data();
+    scalars.Type = type;
+    return Cast(scene, scalars, method, Serial);
+  };
+  const std::vector<float> reference = Cast(scene, scene.Doubles(), method, Serial);
+  int hits = 0;
+  double opacity = 0.0;
+  const double error = Compare(
+    scene, method, reference,
+    [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
+    {
+      const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, o, d };
+      return an::IntegrateAdaptive(
+        field, scene.Case.TF, segments.data(), segments.size(), method.Adaptive)
+        .RGBA;
+    },
+    hits, opacity);
+  EXPECT_LE(error, ImageRounding);
+  EXPECT_GT(opacity, 0.2);
+  EXPECT_EQ(typed(std::uint8_t(), ae::ScalarType::UInt8), reference);
+  EXPECT_EQ(typed(std::int16_t(), ae::ScalarType::Int16), reference);
+  EXPECT_EQ(typed(std::uint16_t(), ae::ScalarType::UInt16), reference);
+  EXPECT_EQ(typed(std::int32_t(), ae::ScalarType::Int32), reference);
+  EXPECT_EQ(typed(std::uint32_t(), ae::ScalarType::UInt32), reference);
+  EXPECT_EQ(typed(std::int64_t(), ae::ScalarType::Int64), reference);
+  EXPECT_EQ(typed(std::uint64_t(), ae::ScalarType::UInt64), reference);
+  EXPECT_EQ(typed(float(), ae::ScalarType::Float32), reference);
+}
+
+TEST(Frame, MaximumIntensityMatchesTheCore)
+{
+  const Scene scene;
+  ae::FrameMethod method;
+  method.Mode = ae::Blend::Maximum;
+  method.TF = &scene.Case.TF;
+  method.Map = &scene.Map;
+  const std::vector<float> image = Cast(scene, scene.Doubles(), method, Serial);
+  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
+  int hits = 0;
+  double opacity = 0.0;
+  const double error = Compare(
+    scene, method, image,
+    [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
+    {
+      const an::RayExtremum<double> e =
+        an::ExtremumAlongRay(volume, o, d, segments.data(), segments.size(), true);
+      const double alpha = std::min(std::max(scene.Case.TF.GetOpacityValue(e.Value), 0.0), 1.0);
+      return e.Found ? glm::dvec4(scene.Case.TF.GetColor(e.Value) * alpha, alpha) : glm::dvec4(0.0);
+    },
+    hits, opacity);
+  EXPECT_LE(error, ImageRounding);
+  EXPECT_GT(opacity, 0.0);
+}
+
+TEST(Frame, ThreadedLoopGivesTheSerialImage)
+{
+  const Scene scene;
+  an::PiecewiseTransferFunction<double> pieces;
+  ASSERT_EQ(pieces.Build(scene.Case.TF, an::PiecewiseRelativeError(1e-3)), "");
+  ae::FrameMethod method;
+  method.Kind = ae::Integration::Piecewise;
+  method.Adaptive.Tolerance = 1e-3;
+  method.TF = &scene.Case.TF;
+  method.Map = &scene.Map;
+  method.Pieces = &pieces;
+  ae::FrameStatistics serial, threaded;
+  const std::vector<float> a = Cast(scene, scene.Doubles(), method, Serial, &serial);
+  const std::vector<float> b = Cast(scene, scene.Doubles(), method, Threaded, &threaded);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(serial.Rays, threaded.Rays);
+  EXPECT_EQ(serial.Pieces, threaded.Pieces);
+  EXPECT_EQ(serial.Cells, threaded.Cells);
+  EXPECT_EQ(serial.MaximumSamples, threaded.MaximumSamples);
+}
+
+TEST(Frame, FootprintCoversEveryRayThatMeetsTheBox)
+{
+  const Scene scene;
+  const int* r = scene.Frame.Rect;
+  int inside = 0;
+  for (int y = 0; y < Height; ++y)
+  {
+    for (int x = 0; x < Width; ++x)
+    {
+      double o[3], d[3], D;
+      if (ae::PixelRay(scene.Frame.Rays, x, y, o, d, D))
+      {
+        ++inside;
+        EXPECT_TRUE(x >= r[0] && x < r[1] && y >= r[2] && y < r[3]) << x << ", " << y;
+      }
+    }
+  }
+  EXPECT_GT(inside, 0);
+  // Tighter than the image: the volume leaves part of it empty.
+  EXPECT_LT((r[1] - r[0]) * (r[3] - r[2]), Width * Height);
+}
+
+TEST(Frame, RefusesWhatItCannotCast)
+{
+  const Scene scene;
+  ae::FrameMethod method;
+  EXPECT_NE(ae::Validate(scene.Doubles(), method), ""); // no transfer function
+  method.TF = &scene.Case.TF;
+  EXPECT_EQ(ae::Validate(scene.Doubles(), method), "");
+  method.Kind = ae::Integration::Piecewise;
+  EXPECT_NE(ae::Validate(scene.Doubles(), method), ""); // no pieces
+  method.Kind = ae::Integration::Riemann;
+  method.Mode = ae::Blend::Average;
+  EXPECT_NE(ae::Validate(scene.Doubles(), method), ""); // no range
+  method.Mode = ae::Blend::Composite;
+  ae::Scalars flat = scene.Doubles();
+  flat.Dimensions[2] = 1;
+  EXPECT_NE(ae::Validate(flat, method), "");
+  flat.Data = nullptr;
+  EXPECT_NE(ae::Validate(flat, method), "");
+}
+} // namespace
