@@ -176,6 +176,15 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   Expect(!scene.Mapper->GetLastRenderReused(), "a camera change casts again");
   scene.Renderer->GetActiveCamera()->Azimuth(-1.0);
   Expect(MaxDifference(scene.Render(), reference) < 1e-7, "back to the first frame");
+  // The image's placement moves the rays, the scalars unchanged.
+  double origin[3];
+  volume->GetOrigin(origin);
+  volume->SetOrigin(origin[0] + 3.0, origin[1], origin[2]);
+  vtkSmartPointer<vtkFloatArray> moved = scene.Render();
+  Expect(!scene.Mapper->GetLastRenderReused(), "a new image origin casts again");
+  Expect(MaxDifference(moved, reference) > 1e-3, "the moved volume shows");
+  volume->SetOrigin(origin);
+  Expect(MaxDifference(scene.Render(), reference) < 1e-7, "back in place");
 
   // TraceRay re-casts a pixel: its steps tile the ray and end at the pixel's
   // alpha; for Riemann they are uniform; off-image pixels are refused.
