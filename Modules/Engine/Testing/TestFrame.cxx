@@ -97,6 +97,11 @@ struct Scene
     }
   }
 
+  an::TrilinearVolume<double, double> Field() const
+  {
+    return an::TrilinearVolume<double, double>(this->Case.Data.data(), this->Case.Dimensions);
+  }
+
   ae::Scalars Doubles() const
   {
     ae::Scalars s;
@@ -188,15 +193,20 @@ bool CoreRay(const Scene& scene, const ae::FrameMethod& method, int x, int y,
   return true;
 }
 
-// The largest difference of any channel over the image between the frame
-// and the core, and how many pixels the rays met the box at.
-template <typename Integrate>
-double Compare(const Scene& scene, const ae::FrameMethod& method, const std::vector<float>& image,
-  const Integrate& integrate, int& hits, double& opacity)
+// The frame against the core: the largest difference of any channel over
+// the image, how many pixels' rays meet the box, the largest opacity.
+struct Agreement
 {
-  double worst = 0.0;
-  hits = 0;
-  opacity = 0.0;
+  double Error = 0.0;
+  int Hits = 0;
+  double Opacity = 0.0;
+};
+
+template <typename Integrate>
+Agreement Compare(const Scene& scene, const ae::FrameMethod& method,
+  const std::vector<float>& image, const Integrate& integrate)
+{
+  Agreement a;
   for (int y = 0; y < Height; ++y)
   {
     for (int x = 0; x < Width; ++x)
@@ -207,19 +217,19 @@ double Compare(const Scene& scene, const ae::FrameMethod& method, const std::vec
       const int* r = scene.Frame.Rect;
       if (hit)
       {
-        ++hits;
+        ++a.Hits;
         EXPECT_TRUE(x >= r[0] && x < r[1] && y >= r[2] && y < r[3])
           << "pixel " << x << ", " << y << " meets the box outside the footprint";
       }
       for (int c = 0; c < 4; ++c)
       {
         // A pixel whose ray misses the box is left as it was (zero).
-        worst = std::max(worst, std::abs(pixel[c] - (hit ? rgba[c] : 0.0)));
+        a.Error = std::max(a.Error, std::abs(pixel[c] - (hit ? rgba[c] : 0.0)));
       }
-      opacity = std::max(opacity, rgba.a);
+      a.Opacity = std::max(a.Opacity, rgba.a);
     }
   }
-  return worst;
+  return a;
 }
 
 // The float image's rounding of the core's double values.
@@ -249,22 +259,18 @@ TEST(Frame, PiecewiseRaysPerLaneMatchTheCore)
     scalars.Type = ae::ScalarType::UInt8;
     ae::FrameStatistics stats;
     const std::vector<float> image = Cast(scene, scalars, method, Serial, &stats);
-    const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
-    int hits = 0;
-    double opacity = 0.0;
-    const double error = Compare(
-      scene, method, image,
+    const an::TrilinearVolume<double, double> volume = scene.Field();
+    const Agreement a = Compare(scene, method, image,
       [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
       {
         return an::IntegratePiecewise(volume, o, d, segments.data(), segments.size(), pieces, eps)
           .RGBA;
-      },
-      hits, opacity);
+      });
     // Lanes against a ray at a time: 8.9e-16 (Engine's RaysPerLane tests).
-    EXPECT_LE(error, ImageRounding + 1e-12) << "eps " << eps;
-    EXPECT_GT(hits, Width * Height / 4);
-    EXPECT_GT(opacity, 0.5);
-    EXPECT_EQ(stats.Rays, hits);
+    EXPECT_LE(a.Error, ImageRounding + 1e-12) << "eps " << eps;
+    EXPECT_GT(a.Hits, Width * Height / 4);
+    EXPECT_GT(a.Opacity, 0.5);
+    EXPECT_EQ(stats.Rays, a.Hits);
     EXPECT_GT(stats.Pieces, stats.Rays);
   }
 }
@@ -283,22 +289,18 @@ TEST(Frame, RiemannRaysPerLaneMatchTheCore)
   method.EngineVolume = &bytes;
   method.EngineTable = &table;
   const std::vector<float> image = Cast(scene, scene.Doubles(), method, Serial);
-  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
-  int hits = 0;
-  double opacity = 0.0;
-  const double error = Compare(
-    scene, method, image,
+  const an::TrilinearVolume<double, double> volume = scene.Field();
+  const Agreement a = Compare(scene, method, image,
     [&](const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
     {
       const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, o, d };
       return an::IntegrateRiemann(field, scene.Case.TF, D, 0.5, an::RiemannForm::Exponential,
         segments.data(), segments.size(), 0.0)
         .RGBA;
-    },
-    hits, opacity);
+    });
   // The float kernel's bound against the double sum (Riemann.h).
-  EXPECT_LE(error, 1e-4);
-  EXPECT_GT(opacity, 0.5);
+  EXPECT_LE(a.Error, 1e-4);
+  EXPECT_GT(a.Opacity, 0.5);
 }
 
 TEST(Frame, ClippedAdaptiveRaysMatchTheCoreForEveryScalarType)
@@ -313,7 +315,7 @@ TEST(Frame, ClippedAdaptiveRaysMatchTheCoreForEveryScalarType)
   method.Adaptive.FieldMaximum = 255.0;
   method.TF = &scene.Case.TF;
   method.Map = &scene.Map;
-  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
+  const an::TrilinearVolume<double, double> volume = scene.Field();
   // Each type's copy of the integer values: the same field in double.
   const auto typed = [&](auto zero, ae::ScalarType type)
   {
@@ -324,20 +326,16 @@ TEST(Frame, ClippedAdaptiveRaysMatchTheCoreForEveryScalarType)
     return Cast(scene, scalars, method, Serial);
   };
   const std::vector<float> reference = Cast(scene, scene.Doubles(), method, Serial);
-  int hits = 0;
-  double opacity = 0.0;
-  const double error = Compare(
-    scene, method, reference,
+  const Agreement a = Compare(scene, method, reference,
     [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
     {
       const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, o, d };
       return an::IntegrateAdaptive(
         field, scene.Case.TF, segments.data(), segments.size(), method.Adaptive)
         .RGBA;
-    },
-    hits, opacity);
-  EXPECT_LE(error, ImageRounding);
-  EXPECT_GT(opacity, 0.2);
+    });
+  EXPECT_LE(a.Error, ImageRounding);
+  EXPECT_GT(a.Opacity, 0.2);
   EXPECT_EQ(typed(std::uint8_t(), ae::ScalarType::UInt8), reference);
   EXPECT_EQ(typed(std::int16_t(), ae::ScalarType::Int16), reference);
   EXPECT_EQ(typed(std::uint16_t(), ae::ScalarType::UInt16), reference);
@@ -356,21 +354,17 @@ TEST(Frame, MaximumIntensityMatchesTheCore)
   method.TF = &scene.Case.TF;
   method.Map = &scene.Map;
   const std::vector<float> image = Cast(scene, scene.Doubles(), method, Serial);
-  const an::TrilinearVolume<double, double> volume(scene.Case.Data.data(), scene.Case.Dimensions);
-  int hits = 0;
-  double opacity = 0.0;
-  const double error = Compare(
-    scene, method, image,
+  const an::TrilinearVolume<double, double> volume = scene.Field();
+  const Agreement a = Compare(scene, method, image,
     [&](const glm::dvec3& o, const glm::dvec3& d, double, const auto& segments)
     {
       const an::RayExtremum<double> e =
         an::ExtremumAlongRay(volume, o, d, segments.data(), segments.size(), true);
       const double alpha = std::min(std::max(scene.Case.TF.GetOpacityValue(e.Value), 0.0), 1.0);
       return e.Found ? glm::dvec4(scene.Case.TF.GetColor(e.Value) * alpha, alpha) : glm::dvec4(0.0);
-    },
-    hits, opacity);
-  EXPECT_LE(error, ImageRounding);
-  EXPECT_GT(opacity, 0.0);
+    });
+  EXPECT_LE(a.Error, ImageRounding);
+  EXPECT_GT(a.Opacity, 0.0);
 }
 
 TEST(Frame, ThreadedLoopGivesTheSerialImage)
