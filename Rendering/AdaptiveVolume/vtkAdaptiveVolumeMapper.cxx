@@ -132,15 +132,14 @@ avos::engine::Blend EngineBlend(int blend)
   }
 }
 
-// What the last image depends on besides the property's tables: a frame
-// whose key equals the last cast's is drawn again, not cast.
+// What the last image depends on besides the property's tables and the
+// frame's depth buffer and clip region (compared with the last cast's
+// copies): a frame whose key equals the last cast's is drawn again, not cast.
 struct FrameKey
 {
   std::array<double, 16> Projection{};
   std::array<double, 16> GridToWorld{};
   std::array<int, 6> Viewport{ { 0, 0, 0, 0, 0, 0 } }; // origin, viewport and image sizes
-  std::vector<float> Depth;                            // the frame's depth buffer
-  an::ClipRegion<double> Clip;
   vtkMTimeType MapperTime = 0;
   vtkMTimeType ClassifyTime = 0;
   vtkMTimeType RangesTime = 0;
@@ -149,14 +148,14 @@ struct FrameKey
   bool operator==(const FrameKey& o) const
   {
     return this->Projection == o.Projection && this->GridToWorld == o.GridToWorld &&
-      this->Viewport == o.Viewport && this->Depth == o.Depth && this->Clip == o.Clip &&
-      this->MapperTime == o.MapperTime && this->ClassifyTime == o.ClassifyTime &&
-      this->RangesTime == o.RangesTime && this->Shading == o.Shading;
+      this->Viewport == o.Viewport && this->MapperTime == o.MapperTime &&
+      this->ClassifyTime == o.ClassifyTime && this->RangesTime == o.RangesTime &&
+      this->Shading == o.Shading;
   }
 };
 
 // vtkSMPTools as the engine's parallel loop.
-void ParallelFor(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
+void SMPFor(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
 {
   vtkSMPTools::For(0, static_cast<vtkIdType>(count), 1,
     [&body](vtkIdType begin, vtkIdType end) { body(begin, end); });
@@ -174,11 +173,10 @@ public:
   vtkDataArray* Scalars = nullptr;
   int Dimensions[3] = { 0, 0, 0 };
 
-  // UpdateGeometry: grid to world and back, the voxel unit, the clipping
-  // planes and cropping in grid coordinates.
+  // UpdateGeometry: grid to world and back, the voxel unit; the clipping
+  // planes and cropping in grid coordinates go to Frame.Clip.
   vtkNew<vtkMatrix4x4> GridToWorld, WorldToGrid;
   double Voxel = 0.0;
-  an::ClipRegion<double> Clip;
 
   // UpdateScalars: the empty-space map's ranges (rebuilt when the scalars
   // change), the data's range, the engine's view of the scalars (in place).
@@ -231,6 +229,8 @@ public:
   avos::engine::FrameCaster Caster;
   avos::engine::FrameMethod Method;
   FrameKey LastKey;
+  std::vector<float> LastDepth;
+  an::ClipRegion<double> LastClip;
   bool HaveImage = false;
   vtkSmartPointer<vtkDataArray> FrameScalars;
   vtkNew<vtkImageData> Image;
@@ -309,7 +309,9 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->UpdateKernelTables() && this->SetUpFrame(ren, vol);
   if (drawn)
   {
-    this->LastRenderReused = internals.HaveImage && internals.Key == internals.LastKey;
+    const avos::engine::Frame& frame = internals.Frame;
+    this->LastRenderReused = internals.HaveImage && internals.Key == internals.LastKey &&
+      frame.Depth == internals.LastDepth && frame.Clip == internals.LastClip;
     drawn = this->LastRenderReused || this->CastFrame(ren);
     if (drawn && !this->LastRenderReused)
     {
@@ -460,7 +462,7 @@ bool vtkAdaptiveVolumeMapper::UpdateGeometry(vtkImageData* input, vtkVolume* vol
   }
   // Clipping planes (world) and cropping (the volume's coordinates, as VTK's
   // mappers: origin and spacing) -> grid coordinates.
-  an::ClipRegion<double>& clip = internals.Clip;
+  an::ClipRegion<double>& clip = internals.Frame.Clip;
   clip = an::ClipRegion<double>();
   const std::string planesError =
     avos::AddClippingPlanes(this->ClippingPlanes, internals.GridToWorld->GetData(), clip);
@@ -690,7 +692,6 @@ bool vtkAdaptiveVolumeMapper::SetUpFrame(vtkRenderer* ren, vtkVolume* vol)
   std::copy(ndcToWorld->GetData(), ndcToWorld->GetData() + 16, frame.Rays.NDCToWorld);
   std::copy(internals.WorldToGrid->GetData(), internals.WorldToGrid->GetData() + 16,
     frame.Rays.WorldToGrid);
-  frame.Clip = internals.Clip;
   // Cast only the box's footprint on the screen.
   frame.SetFootprint(internals.GridToWorld->GetData(), projection->GetData());
 
@@ -699,8 +700,6 @@ bool vtkAdaptiveVolumeMapper::SetUpFrame(vtkRenderer* ren, vtkVolume* vol)
   std::copy(internals.GridToWorld->GetData(), internals.GridToWorld->GetData() + 16,
     key.GridToWorld.begin());
   key.Viewport = { { x0, y0, viewportWidth, viewportHeight, width, height } };
-  key.Depth = frame.Depth;
-  key.Clip = frame.Clip;
   key.MapperTime = this->GetMTime();
   key.ClassifyTime = internals.ClassifyTime.GetMTime();
   key.RangesTime = internals.Ranges.GetTime();
@@ -812,17 +811,17 @@ bool vtkAdaptiveVolumeMapper::CastFrame(vtkRenderer* ren)
     // Progress and the render window's abort check (an interactor's, or
     // avos-render's Ctrl-C) every WorkMonitor::Interval, whatever the SMP
     // backend; an abort takes effect within that plus one tile per thread.
-    const bool aborted = !monitor.Run(
-                           avos::engine::FrameCaster::Tiles(frame),
-                           [&] {
-                             statistics = internals.Caster.Cast(
-                               frame, internals.View, method, image, ParallelFor, monitor);
-                           },
-                           [this, ren](double fraction)
-                           {
-                             this->UpdateProgress(fraction);
-                             return ren->GetRenderWindow()->CheckAbortStatus() != 0;
-                           }) ||
+    const bool aborted =
+      !monitor.Run(
+        avos::engine::FrameCaster::Tiles(frame),
+        [&] {
+          statistics = internals.Caster.Cast(frame, internals.View, method, image, SMPFor, monitor);
+        },
+        [this, ren](double fraction)
+        {
+          this->UpdateProgress(fraction);
+          return ren->GetRenderWindow()->CheckAbortStatus() != 0;
+        }) ||
       ren->GetRenderWindow()->CheckAbortStatus() != 0;
     if (aborted)
     {
@@ -841,6 +840,8 @@ bool vtkAdaptiveVolumeMapper::CastFrame(vtkRenderer* ren)
     statistics.Rejected, statistics.Cells, statistics.Pieces);
   this->ConvertForDisplay(image, 4 * static_cast<std::size_t>(width) * height);
   internals.LastKey = internals.Key;
+  internals.LastDepth = frame.Depth;
+  internals.LastClip = frame.Clip;
   internals.HaveImage = true;
   internals.FrameScalars = internals.Scalars;
   internals.CastDistance = internals.Distance;

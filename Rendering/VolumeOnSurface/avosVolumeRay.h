@@ -21,6 +21,7 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/engine/EmptySpace.h"
+#include "avos/engine/Frame.h"
 #include "avos/engine/PieceKernels.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
@@ -208,7 +209,7 @@ public:
       thread_local std::vector<avos::numerics::Interval<double>> segments;
       if (this->Setup.Map)
       {
-        this->Setup.Map->Segments(origin, back, D, SegmentPad, segments);
+        this->Setup.Map->Segments(origin, back, D, avos::engine::SegmentPad, segments);
       }
       else
       {
@@ -255,7 +256,7 @@ public:
     if (this->Setup.Map)
     {
       avos::engine::PacketSegments(*this->Setup.Map, spanned, origins.data(), backs.data(),
-        lengths.data(), SegmentPad, segments.data());
+        lengths.data(), avos::engine::SegmentPad, segments.data());
     }
     for (std::size_t k = 0; k < spanned && !this->Setup.Map; ++k)
     {
@@ -297,9 +298,6 @@ public:
   }
 
 private:
-  // What the empty-space walk pads each visible stretch with (grid units).
-  static constexpr double SegmentPad = 1e-6;
-
   // The ray of Cast() in grid coordinates, integrated from its far end
   // `origin` along `back` (a voxel unit per unit of t) over [0, D]; false
   // when it misses the grid.
