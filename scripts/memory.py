@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Resident memory each volume mapper adds over the loaded volume, side by
-side: vtkAdaptiveVolumeMapper (piecewise, eps 1e-3, VTK's opacity model) and
-VTK's vtkFixedPointVolumeRayCastMapper, each alone in a process, on
+side: vtkAdaptiveVolumeMapper (piecewise, eps 1e-3, and Riemann, h 0.5, VTK's
+opacity model) and VTK's vtkFixedPointVolumeRayCastMapper, each alone in a
+process, on
 generated volumes (a smooth field, 800^3 uint8 and 512^3 uint16 by default).
 
     PYTHONPATH=build/lib/python3.11/dist-packages xvfb-run -a /usr/bin/python3 scripts/memory.py
@@ -71,12 +72,16 @@ def child(mapper_name, size, kind):
     prop.SetColor(color)
     prop.SetScalarOpacity(opacity)
     prop.SetInterpolationTypeToLinear()
-    if mapper_name == "avos":
+    if mapper_name.startswith("avos"):
         import avos
         mapper = avos.vtkAdaptiveVolumeMapper()
-        mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        if mapper_name == "avos-riemann":
+            mapper.SetIntegrationMethodToRiemann()
+            mapper.SetSampleDistance(0.5)
+        else:
+            mapper.SetIntegrationMethodToPiecewiseAdaptive()
+            mapper.SetTolerance(1e-3)
         mapper.SetOpacityModelToVTK()
-        mapper.SetTolerance(1e-3)
     else:
         from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
         mapper = vtkFixedPointVolumeRayCastMapper()
@@ -105,19 +110,24 @@ def main():
     if args.child:
         child(args.child[0], int(args.child[1]), args.child[2])
         return 0
-    print("| volume | size | VTK fixed point: added (peak) | AVoS piecewise: added (peak) | ratio |")
+    mappers = ("vtk", "avos-piecewise", "avos-riemann")
+    print("| volume | size | VTK fixed point: added (peak) | AVoS piecewise: added (peak), "
+          "ratio | AVoS Riemann: added (peak), ratio |")
     print("|---|---|---|---|---|")
     for spec in args.volumes.split(","):
         size, kind = spec.split(":")
         row = {}
-        for mapper in ("vtk", "avos"):
+        for mapper in mappers:
             out = subprocess.run([sys.executable, __file__, "--child", mapper, size, kind],
                                  capture_output=True, text=True, check=True)
             row[mapper] = json.loads(out.stdout.strip().splitlines()[-1])
-        v, a = row["vtk"], row["avos"]
-        print("| %s^3 %s | %.0f MiB | +%.0f MiB (+%.0f) | +%.0f MiB (+%.0f) | %.2f |" % (
-            size, kind, v["volume_mib"], v["added_mib"], v["peak_added_mib"], a["added_mib"],
-            a["peak_added_mib"], a["added_mib"] / max(v["added_mib"], 1.0)))
+        v = row["vtk"]
+        cells = ["+%.0f MiB (+%.0f)" % (v["added_mib"], v["peak_added_mib"])]
+        for mapper in mappers[1:]:
+            a = row[mapper]
+            cells.append("+%.0f MiB (+%.0f), %.2f" % (a["added_mib"], a["peak_added_mib"],
+                                                      a["added_mib"] / max(v["added_mib"], 1.0)))
+        print("| %s^3 %s | %.0f MiB | %s |" % (size, kind, v["volume_mib"], " | ".join(cells)))
     return 0
 
 

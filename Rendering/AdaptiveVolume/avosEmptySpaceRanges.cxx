@@ -3,20 +3,16 @@
 #include "vtkDataArray.h"
 #include "vtkSMPTools.h"
 
-#include <atomic>
+#include <functional>
 
 namespace avos
 {
 namespace
 {
 // Z-layers of blocks are independent: filled in parallel.
-template <typename Storage>
-std::size_t ComputeRanges(avos::numerics::EmptySpaceMap<double>& map, const Storage* data)
+void ForLayers(int count, const std::function<void(int, int)>& body)
 {
-  std::atomic<std::size_t> nans(0);
-  vtkSMPTools::For(0, map.GetNumberOfBlocks(2),
-    [&](int begin, int end) { nans += map.ComputeRanges(data, begin, end); });
-  return nans;
+  vtkSMPTools::For(0, count, [&](int begin, int end) { body(begin, end); });
 }
 }
 
@@ -32,8 +28,8 @@ bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3])
   std::size_t nans = 0;
   switch (scalars->GetDataType())
   {
-    vtkTemplateMacro(
-      nans = ComputeRanges(this->Map, static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+    vtkTemplateMacro(nans = this->Map.ComputeRanges(
+                       static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)), ForLayers));
     default:
       return false;
   }

@@ -47,65 +47,70 @@ bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine
   return true;
 }
 
-avos::engine::Volume::Type EngineVolume::StoredType(int vtkScalarType)
+avos::engine::Volume::Type EngineVolume::EngineType(int vtkScalarType)
 {
   using Type = avos::engine::Volume::Type;
-  return vtkScalarType == VTK_UNSIGNED_CHAR
-    ? Type::UInt8
-    : (vtkScalarType == VTK_UNSIGNED_SHORT ? Type::UInt16 : Type::Float32);
+  switch (vtkScalarType)
+  {
+    case VTK_UNSIGNED_CHAR:
+      return Type::UInt8;
+    case VTK_UNSIGNED_SHORT:
+      return Type::UInt16;
+    case VTK_SIGNED_CHAR:
+      return Type::Int8;
+    case VTK_CHAR:
+      return std::is_signed<char>::value ? Type::Int8 : Type::UInt8;
+    case VTK_SHORT:
+      return Type::Int16;
+    default:
+      return Type::Float32;
+  }
 }
 
 const avos::engine::Volume* EngineVolume::Update(vtkDataArray* scalars, const int dimensions[3])
 {
+  using Type = avos::engine::Volume::Type;
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
-  if (scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
+  const int type = scalars->GetDataType();
+  const bool inPlace = EngineType(type) != Type::Float32 || type == VTK_FLOAT;
+  if (!inPlace && scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
     dims == this->Dimensions)
   {
     return this->Usable ? &this->View : nullptr;
   }
-  using Type = avos::engine::Volume::Type;
-  const int type = scalars->GetDataType();
-  const Type kept = StoredType(type);
-  const std::size_t bytes = kept == Type::UInt8 ? 1 : (kept == Type::UInt16 ? 2 : 4);
   const vtkIdType count = scalars->GetNumberOfTuples();
   std::copy(dimensions, dimensions + 3, this->View.Dimensions);
-  this->View.Scalars = kept;
-  // Whether the kernels can index it, before allocating anything.
-  static const unsigned char unallocated = 0;
-  this->View.Data = &unallocated;
+  this->View.Scalars = EngineType(type);
+  // Whether the kernels can index it, before converting anything.
+  this->View.Data = scalars->GetVoidPointer(0);
   this->Usable = avos::engine::Validate(this->View).empty() &&
     count == static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2];
-  if (this->Usable)
+  if (inPlace || !this->Usable)
   {
-    this->Data.assign(bytes * static_cast<std::size_t>(count) + avos::engine::Volume::Padding, 0);
-    unsigned char* target = this->Data.data();
-    bool known = true;
-    auto copy = [&](auto* data)
+    std::vector<float>().swap(this->Converted);
+  }
+  else
+  {
+    this->Converted.resize(static_cast<std::size_t>(count));
+    float* target = this->Converted.data();
+    auto convert = [&](auto* data)
     {
       vtkSMPTools::For(0, count,
         [&](vtkIdType begin, vtkIdType end)
         {
-          if (kept != Type::Float32)
-          {
-            std::copy(reinterpret_cast<const unsigned char*>(data + begin),
-              reinterpret_cast<const unsigned char*>(data + end), target + bytes * begin);
-            return;
-          }
-          float* floats = reinterpret_cast<float*>(target);
           for (vtkIdType i = begin; i < end; ++i)
           {
-            floats[i] = static_cast<float>(data[i]);
+            target[i] = static_cast<float>(data[i]);
           }
         });
     };
     switch (type)
     {
-      vtkTemplateMacro(copy(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+      vtkTemplateMacro(convert(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
       default:
-        known = false;
+        this->Usable = false;
     }
     this->View.Data = target;
-    this->Usable = known;
   }
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();

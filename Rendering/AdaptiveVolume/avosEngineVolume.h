@@ -1,8 +1,9 @@
 // A volume's scalars as the vectorised engine reads them (avos/engine/
-// Riemann.h): 8- and 16-bit unsigned scalars as they are, padded, any other
-// type converted to float; rebuilt only when the scalars (the array or its
-// MTime) or the dimensions change. Shared by vtkAdaptiveVolumeMapper and the
-// Volume-on-Surface rays. Not wrapped.
+// Riemann.h): 8- and 16-bit integers (signed or not) and floats read in
+// place from the VTK array, any other type (32- and 64-bit integers,
+// doubles) converted once to float, 4 bytes per point, and kept until the
+// scalars (the array or its MTime) or the dimensions change. Shared by
+// vtkAdaptiveVolumeMapper and the Volume-on-Surface rays. Not wrapped.
 #ifndef avosEngineVolume_h
 #define avosEngineVolume_h
 
@@ -13,6 +14,7 @@
 #include "avos/engine/Riemann.h"
 
 #include <array>
+#include <cstddef>
 #include <vector>
 
 class vtkDataArray;
@@ -34,12 +36,16 @@ public:
   /// caller then takes the scalar path.
   const avos::engine::Volume* Update(vtkDataArray* scalars, const int dimensions[3]);
 
-  /// How scalars of a VTK type are kept: UInt8 and UInt16 as they are (the
-  /// piecewise method's cells kernel reads only those), Float32 for the rest.
-  static avos::engine::Volume::Type StoredType(int vtkScalarType);
+  /// How the engine reads scalars of a VTK type: 8- and 16-bit integers and
+  /// floats as they are (in place), Float32 for the rest (converted).
+  static avos::engine::Volume::Type EngineType(int vtkScalarType);
+
+  /// Bytes of scalars this object keeps: the float conversion, 0 for the
+  /// types read in place.
+  std::size_t GetKeptBytes() const { return this->Converted.capacity() * sizeof(float); }
 
 private:
-  std::vector<unsigned char> Data;
+  std::vector<float> Converted;
   avos::engine::Volume View;
   bool Usable = false;
   vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse

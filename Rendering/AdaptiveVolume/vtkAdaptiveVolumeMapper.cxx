@@ -624,10 +624,10 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // The Riemann kernel's scalars and table (volumes beyond its 32-bit
   // indices take the scalar sum; shaded sums too: the kernels do not shade),
   // and the scalars alone for the piecewise method's cells where they are 8-
-  // or 16-bit (no float copy: the cells' kernel does not take it).
+  // or 16-bit unsigned (the only ones the cells' kernel reads).
   const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade;
   const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
-    avos::EngineVolume::StoredType(scalars->GetDataType()) != avos::engine::Volume::Type::Float32;
+    avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
   const avos::engine::Volume* kernelScalars =
     riemann || cells ? internals.EngineScalars.Update(scalars, internals.Dimensions) : nullptr;
   internals.RiemannScalars = riemann ? kernelScalars : nullptr;

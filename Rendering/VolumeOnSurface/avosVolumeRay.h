@@ -170,15 +170,14 @@ struct VolumeRaySetup
   bool Dispatch(F&& f) const;
 };
 
-// Whether the rays of `setup` read the engine's copy of the scalars: the
+// Whether the rays of `setup` read the engine's view of the scalars: the
 // Riemann kernel's, and the piecewise method's cells where the scalars are
-// 8- or 16-bit (the cells' kernel takes no float copy).
+// 8- or 16-bit unsigned (the only ones the cells' kernel reads).
 inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
 {
   return setup.Method == RayIntegration::Levoy ||
     (setup.Method == RayIntegration::Piecewise && setup.Scalars &&
-      EngineVolume::StoredType(setup.Scalars->GetDataType()) !=
-        avos::engine::Volume::Type::Float32);
+      avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType())));
 }
 
 template <typename Storage>

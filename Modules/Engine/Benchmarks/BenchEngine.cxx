@@ -37,7 +37,7 @@ struct Fixture
 {
   std::vector<double> Data;
   std::vector<float> DataF;
-  std::vector<std::uint8_t> Bytes; // Data rounded, padded for the engine
+  std::vector<std::uint8_t> Bytes; // Data rounded
   int Dimensions[3] = { Size, Size, Size };
   an::TransferFunction<double> TF;
   ae::TransferTable Table;
@@ -62,7 +62,6 @@ struct Fixture
     {
       Bytes.push_back(static_cast<std::uint8_t>(std::lround(v)));
     }
-    Bytes.resize(Bytes.size() + ae::Volume::Padding, 0);
     TF = adversarial::Random(5, 64, alpha ? 0.05 : 0.02);
     if (alpha)
     {
@@ -101,7 +100,7 @@ const an::EmptySpaceMap<double>& GetMap()
       tf.Finalize();
       auto* m = new an::EmptySpaceMap<double>();
       m->SetDimensions(f.Dimensions);
-      m->ComputeRanges(f.Data.data(), 0, m->GetNumberOfBlocks(2));
+      m->ComputeRanges(f.Data.data());
       m->Classify(tf);
       return m;
     }());

@@ -46,7 +46,7 @@ an::EmptySpaceMap<double> MakeMap()
   tf.AddOpacityKnot(255, 0.5);
   an::EmptySpaceMap<double> map;
   map.SetDimensions(dims);
-  map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2));
+  map.ComputeRanges(data.data());
   map.Classify(tf);
   return map;
 }

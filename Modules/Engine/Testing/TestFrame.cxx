@@ -12,6 +12,8 @@
 #include "avos/numerics/Extremum.h"
 #include "avos/numerics/Volume.h"
 
+#include "GuardedArray.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -36,7 +38,7 @@ constexpr int Width = 64, Height = 48;
 struct Scene
 {
   adversarial::Case Case;
-  std::vector<std::uint8_t> Bytes; // padded for the kernels
+  avostest::GuardedArray<std::uint8_t> Bytes; // ends where readable memory ends
   an::EmptySpaceMap<double> Map;
   ae::Frame Frame;
   double GridToWorld[16];
@@ -50,10 +52,9 @@ struct Scene
       v = std::round(v);
     }
     this->Case.TF = adversarial::Random(4, 12, 2.0, 255.0, true);
-    this->Bytes.assign(this->Case.Data.begin(), this->Case.Data.end());
-    this->Bytes.resize(this->Bytes.size() + ae::Volume::Padding, 0);
+    this->Bytes = avostest::GuardedArray<std::uint8_t>(this->Case.Data);
     this->Map.SetDimensions(this->Case.Dimensions);
-    this->Map.ComputeRanges(this->Case.Data.data(), 0, this->Map.GetNumberOfBlocks(2));
+    this->Map.ComputeRanges(this->Case.Data.data());
     this->Map.Classify(this->Case.TF);
 
     // World = grid coordinates scaled by 0.5 (a voxel unit is 0.5 world units).

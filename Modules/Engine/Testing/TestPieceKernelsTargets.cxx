@@ -12,6 +12,7 @@
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/Volume.h"
 
+#include "GuardedArray.h"
 #include "TargetTest.h"
 
 #include <gtest/gtest.h>
@@ -320,13 +321,14 @@ TEST_P(PieceKernelsTargets, RaysMatchScalarAndHoldTolerance)
 
 // 8- and 16-bit volumes from the suite's fields (rounded; the 16-bit ones
 // scaled by 200) and their transfer functions over the same span, as the
-// walk reads them and as the engine does (padded).
+// walk reads them and as the engine does (in place, the array ending where
+// readable memory ends).
 struct Narrow
 {
   std::string Name;
   int Dimensions[3] = { 0, 0, 0 };
   bool Sixteen = false;
-  std::vector<std::uint8_t> Bytes; // the scalars, little endian, then the padding
+  avostest::GuardedArray<std::uint8_t> Bytes; // the scalars, little endian
   an::TransferFunction<double> TF;
 
   ae::Volume Engine() const
@@ -352,16 +354,17 @@ std::vector<Narrow> NarrowCases()
       n.Sixteen = sixteen;
       std::copy(c.Dimensions, c.Dimensions + 3, n.Dimensions);
       const double scale = sixteen ? 200.0 : 1.0;
+      std::vector<std::uint8_t> bytes;
       for (double v : c.Data)
       {
         const auto q = static_cast<std::uint16_t>(std::lround(v * scale));
-        n.Bytes.push_back(static_cast<std::uint8_t>(q & 0xFF));
+        bytes.push_back(static_cast<std::uint8_t>(q & 0xFF));
         if (sixteen)
         {
-          n.Bytes.push_back(static_cast<std::uint8_t>(q >> 8));
+          bytes.push_back(static_cast<std::uint8_t>(q >> 8));
         }
       }
-      n.Bytes.resize(n.Bytes.size() + ae::Volume::Padding, 0);
+      n.Bytes = avostest::GuardedArray<std::uint8_t>(bytes);
       // Knots at fractions and at integers, over all of the range or over
       // the middle of it (cells below and above the tables), transparent
       // between some, in both models.
@@ -646,7 +649,8 @@ TEST_P(PieceKernelsTargets, RaysPerLaneMatchOneRayAtATime)
 // piecewise method's range.
 TEST_P(PieceKernelsTargets, RaysPerLaneRefuseWhatTheyCannotHonour)
 {
-  const Narrow n = NarrowCases().front();
+  const std::vector<Narrow> cases = NarrowCases();
+  const Narrow& n = cases.front();
   const ae::Volume engine = n.Engine();
   an::PiecewiseTransferFunction<double> tf;
   ASSERT_EQ(tf.Build(n.TF, an::PiecewiseRelativeError(1e-3)), "");
@@ -691,7 +695,8 @@ TEST_P(PieceKernelsTargets, RaysPerLaneRefuseWhatTheyCannotHonour)
 // to the scalar stage: the same rays as kernels given none, to the bit.
 TEST_P(PieceKernelsTargets, CellsOfAnotherVolumeAreNotRead)
 {
-  const Narrow n = NarrowCases().front();
+  const std::vector<Narrow> cases = NarrowCases();
+  const Narrow& n = cases.front();
   ae::Volume other = n.Engine();
   other.Dimensions[0] -= 1; // other strides: other corners
   ASSERT_NE(ae::PieceKernels(&other).Scalars, nullptr);

@@ -12,6 +12,7 @@
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
+#include "GuardedArray.h"
 #include "TargetTest.h"
 
 #include <gtest/gtest.h>
@@ -27,25 +28,40 @@ namespace ae = avos::engine;
 
 namespace
 {
-// A smooth volume stored as the kernels read it (float, or 8- or 16-bit
-// with the padding they need), its values in double for the scalar sum, and
-// a random transfer function over its range.
+// A smooth volume stored as the kernels read it (float, or 8- or 16-bit,
+// signed or not, ending where readable memory ends), its values in double
+// for the scalar sum, and a random transfer function over its range.
 struct Scene
 {
   adversarial::Case Case;
   ae::Volume::Type Type = ae::Volume::Type::Float32;
   std::vector<float> Floats;
-  std::vector<std::uint8_t> Bytes;
-  std::vector<std::uint16_t> Words;
+  avostest::GuardedArray<std::uint8_t> Bytes;
+  avostest::GuardedArray<std::uint16_t> Words;
+  avostest::GuardedArray<std::int8_t> SignedBytes;
+  avostest::GuardedArray<std::int16_t> SignedWords;
 
   ae::Volume View() const
   {
     ae::Volume volume;
     volume.Scalars = this->Type;
-    volume.Data = this->Type == ae::Volume::Type::UInt8
-      ? static_cast<const void*>(this->Bytes.data())
-      : (this->Type == ae::Volume::Type::UInt16 ? static_cast<const void*>(this->Words.data())
-                                                : static_cast<const void*>(this->Floats.data()));
+    switch (this->Type)
+    {
+      case ae::Volume::Type::UInt8:
+        volume.Data = this->Bytes.data();
+        break;
+      case ae::Volume::Type::UInt16:
+        volume.Data = this->Words.data();
+        break;
+      case ae::Volume::Type::Int8:
+        volume.Data = this->SignedBytes.data();
+        break;
+      case ae::Volume::Type::Int16:
+        volume.Data = this->SignedWords.data();
+        break;
+      default:
+        volume.Data = this->Floats.data();
+    }
     std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, volume.Dimensions);
     return volume;
   }
@@ -54,20 +70,24 @@ struct Scene
 Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::Type::Float32,
   bool integralKnots = false)
 {
+  using Type = ae::Volume::Type;
   Scene scene;
   scene.Type = type;
   scene.Case = adversarial::MakeVolume("smooth", adversarial::Smooth, seed);
-  // 16-bit data spans [0, 65535]: the high byte matters.
-  const double top = type == ae::Volume::Type::UInt16 ? 65535.0 : 255.0;
+  // 16-bit data spans 65536 values (the high byte matters), signed data
+  // starts at the type's lowest (the sign bit matters).
+  const bool words = type == Type::UInt16 || type == Type::Int16;
+  const double span = words ? 65535.0 : 255.0;
+  const double bottom = type == Type::Int8 ? -128.0 : (type == Type::Int16 ? -32768.0 : 0.0);
   for (double& v : scene.Case.Data)
   {
-    v = type == ae::Volume::Type::Float32 ? v : std::round(v * top / 255.0);
+    v = type == Type::Float32 ? v : std::round(v * span / 255.0) + bottom;
   }
   // 3, 12 or 64 knots: tables that fit one vector of every target, of
   // AVX-512 only, and of none (lane permutations and gathers both tested).
   const int knots[3] = { 3, 12, 64 };
-  scene.Case.TF =
-    adversarial::Random(seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0, top, integralKnots);
+  scene.Case.TF = adversarial::Random(
+    seed + 1, knots[seed % 3], alpha ? 1.0 : 2.0, bottom + span, integralKnots, bottom);
   if (alpha)
   {
     scene.Case.TF.SetOpacityModel(an::OpacityModel::Alpha, 0.7);
@@ -77,13 +97,17 @@ Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::T
   // (converting them would be undefined behaviour, found by clang's UBSan).
   switch (type)
   {
-    case ae::Volume::Type::UInt8:
-      scene.Bytes.assign(scene.Case.Data.begin(), scene.Case.Data.end());
-      scene.Bytes.resize(scene.Bytes.size() + ae::Volume::Padding, 0);
+    case Type::UInt8:
+      scene.Bytes = avostest::GuardedArray<std::uint8_t>(scene.Case.Data);
       break;
-    case ae::Volume::Type::UInt16:
-      scene.Words.assign(scene.Case.Data.begin(), scene.Case.Data.end());
-      scene.Words.resize(scene.Words.size() + ae::Volume::Padding, 0);
+    case Type::UInt16:
+      scene.Words = avostest::GuardedArray<std::uint16_t>(scene.Case.Data);
+      break;
+    case Type::Int8:
+      scene.SignedBytes = avostest::GuardedArray<std::int8_t>(scene.Case.Data);
+      break;
+    case Type::Int16:
+      scene.SignedWords = avostest::GuardedArray<std::int16_t>(scene.Case.Data);
       break;
     default:
       scene.Floats.assign(scene.Case.Data.begin(), scene.Case.Data.end());
@@ -170,11 +194,13 @@ TEST_P(RiemannTargets, EqualsTheDoubleSumWithoutTermination)
   }
 }
 
-// 8- and 16-bit volumes read as they are (pairs of neighbours from one
-// 32-bit gather), against the double sum of the same values.
+// 8- and 16-bit volumes, signed or not, read in place (pairs of neighbours
+// from one 32-bit gather, none past the array's end), against the double sum
+// of the same values.
 TEST_P(RiemannTargets, IntegerScalars)
 {
-  for (ae::Volume::Type type : { ae::Volume::Type::UInt8, ae::Volume::Type::UInt16 })
+  using Type = ae::Volume::Type;
+  for (Type type : { Type::UInt8, Type::UInt16, Type::Int8, Type::Int16 })
   {
     for (unsigned seed : { 1u, 3u })
     {

@@ -17,6 +17,7 @@
 
 #include "avos/engine/Riemann.h" // Volume
 #include "avos/numerics/Pieces.h"
+#include "src/ScalarWords-inl.h"
 
 #include <cstdint>
 #include <limits>
@@ -31,8 +32,8 @@ namespace HWY_NAMESPACE
 namespace hn = hwy::HWY_NAMESPACE;
 
 // A cell per lane as numerics::ScalarCellKernels::Cells sees it, for 8- or
-// 16-bit scalars: its integer corner range classified from the unit tables
-// (Visible, First, Crossings: 1 or 0) and its cubic K (CellCubic's
+// 16-bit unsigned scalars: its integer corner range classified from the unit
+// tables (Visible, First, Crossings: 1 or 0) and its cubic K (CellCubic's
 // operations, in its order) from the entry point (x, y, z) in the cell's
 // frame along (dx, dy, dz). Lanes outside `live` read cell (0, 0, 0).
 template <Volume::Type Scalars, class D, class DI>
@@ -47,11 +48,8 @@ struct ClassifiedCell
     const numerics::PiecewiseTransferFunction<double>::UnitTables& t, hn::Mask<DI> live, VI ci,
     VI cj, VI ck, V x, V y, V z, V dx, V dy, V dz)
   {
-    constexpr bool Bytes = Scalars == Volume::Type::UInt8;
-    constexpr int Size = Bytes ? 1 : 2;
+    constexpr int Size = ScalarBytes(Scalars);
     const std::int32_t sy = v.Dimensions[0], sz = v.Dimensions[0] * v.Dimensions[1];
-    const auto* words = static_cast<const std::int32_t*>(v.Data);
-    const VI mask = hn::Set(di, Bytes ? 0xFF : 0xFFFF);
     const VI zero = hn::Zero(di), one = hn::Set(di, 1);
     const VI base = hn::Set(di, static_cast<std::int32_t>(t.Base));
     const VI last = hn::Set(di, static_cast<std::int32_t>(t.Count) - 1);
@@ -62,16 +60,16 @@ struct ClassifiedCell
     const VI at = hn::IfThenElseZero(live,
       hn::Mul(hn::Add(ci, hn::Add(hn::Mul(cj, hn::Set(di, sy)), hn::Mul(ck, hn::Set(di, sz)))),
         hn::Set(di, Size)));
-    // One 32-bit word from a corner's byte on holds it and its x neighbour
-    // (little endian; the volume is padded for the last one).
+    const VI lastWord = hn::Set(di, LastWord(v));
     VI c[8];
     const std::int32_t offsets[4] = { 0, sy, sz, sy + sz };
-    for (int p = 0; p < 4; ++p)
+    for (int p = 0; p < 3; ++p)
     {
-      const VI w = hn::GatherOffset(di, words, hn::Add(at, hn::Set(di, Size * offsets[p])));
-      c[2 * p] = hn::And(w, mask);
-      c[2 * p + 1] = hn::And(hn::ShiftRight<8 * Size>(w), mask);
+      ReadPair<Scalars, false>(
+        di, v.Data, hn::Add(at, hn::Set(di, Size * offsets[p])), lastWord, c[2 * p], c[2 * p + 1]);
     }
+    ReadPair<Scalars, true>(
+      di, v.Data, hn::Add(at, hn::Set(di, Size * offsets[3])), lastWord, c[6], c[7]);
     VI lo = c[0], hi = c[0];
     for (int k = 1; k < 8; ++k)
     {

@@ -530,9 +530,9 @@ std::string PiecewiseTable::Build(const numerics::PiecewiseTransferFunction<doub
 std::string ValidatePiecewiseRays(
   const Volume& volume, const numerics::PiecewiseTransferFunction<double>& tf)
 {
-  if (volume.Scalars == Volume::Type::Float32)
+  if (!ReadsCells(volume.Scalars))
   {
-    return "the ray-per-lane piecewise method reads 8- and 16-bit scalars only";
+    return "the ray-per-lane piecewise method reads 8- and 16-bit unsigned scalars only";
   }
   std::string error = Validate(volume); // at least 2 points along each axis, among others
   if (!error.empty())

@@ -9,6 +9,7 @@
 #include "hwy/highway.h"
 
 #include "avos/engine/Riemann.h"
+#include "src/ScalarWords-inl.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,10 +27,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(float);
 
 // The scalars at base + offset and base + offset + 1 (a corner and its x
-// neighbour) for every lane.
-template <Volume::Type Scalars, class D, class VI>
-HWY_INLINE void Pair(
-  D d, const void* data, VI base, std::int32_t offset, hn::Vec<D>& first, hn::Vec<D>& second)
+// neighbour) for every lane; LastPair and lastWord as ReadPair's.
+template <Volume::Type Scalars, bool LastPair, class D, class VI>
+HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, VI lastWord,
+  hn::Vec<D>& first, hn::Vec<D>& second)
 {
   const hn::RebindToSigned<D> di;
   const auto index = hn::Add(base, hn::Set(di, offset));
@@ -41,15 +42,11 @@ HWY_INLINE void Pair(
   }
   else
   {
-    // One 32-bit word from the corner's byte on holds both neighbours
-    // (little endian); the volume is padded for the last one.
-    const bool bytes = Scalars == Volume::Type::UInt8;
-    const auto words = hn::GatherOffset(
-      di, static_cast<const std::int32_t*>(data), bytes ? index : hn::ShiftLeft<1>(index));
-    const auto mask = hn::Set(di, bytes ? 0xFF : 0xFFFF);
-    first = hn::ConvertTo(d, hn::And(words, mask));
-    second =
-      hn::ConvertTo(d, hn::And(bytes ? hn::ShiftRight<8>(words) : hn::ShiftRight<16>(words), mask));
+    const auto at = ScalarBytes(Scalars) == 1 ? index : hn::ShiftLeft<1>(index);
+    VI a, b;
+    ReadPair<Scalars, LastPair>(di, data, at, lastWord, a, b);
+    first = hn::ConvertTo(d, a);
+    second = hn::ConvertTo(d, b);
   }
 }
 
@@ -98,11 +95,12 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   const auto fz = locate(pz, nz, iz);
   const auto base =
     hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
+  const auto lastWord = hn::Set(di, Scalars == Volume::Type::Float32 ? 0 : LastWord(volume));
   hn::Vec<D> v000, v100, v010, v110, v001, v101, v011, v111;
-  Pair<Scalars>(d, volume.Data, base, 0, v000, v100);
-  Pair<Scalars>(d, volume.Data, base, sy, v010, v110);
-  Pair<Scalars>(d, volume.Data, base, sz, v001, v101);
-  Pair<Scalars>(d, volume.Data, base, sz + sy, v011, v111);
+  Pair<Scalars, false>(d, volume.Data, base, 0, lastWord, v000, v100);
+  Pair<Scalars, false>(d, volume.Data, base, sy, lastWord, v010, v110);
+  Pair<Scalars, false>(d, volume.Data, base, sz, lastWord, v001, v101);
+  Pair<Scalars, true>(d, volume.Data, base, sz + sy, lastWord, v011, v111);
   const auto v00 = hn::MulAdd(fx, hn::Sub(v100, v000), v000);
   const auto v10 = hn::MulAdd(fx, hn::Sub(v110, v010), v010);
   const auto v01 = hn::MulAdd(fx, hn::Sub(v101, v001), v001);
@@ -521,6 +519,10 @@ void CastRiemannRaysImpl(const Volume& volume, const TransferTable& tf, double h
       return CastRays<Volume::Type::UInt8>(volume, tf, h, terminationBound, rays, count, out);
     case Volume::Type::UInt16:
       return CastRays<Volume::Type::UInt16>(volume, tf, h, terminationBound, rays, count, out);
+    case Volume::Type::Int8:
+      return CastRays<Volume::Type::Int8>(volume, tf, h, terminationBound, rays, count, out);
+    case Volume::Type::Int16:
+      return CastRays<Volume::Type::Int16>(volume, tf, h, terminationBound, rays, count, out);
     default:
       return CastRays<Volume::Type::Float32>(volume, tf, h, terminationBound, rays, count, out);
   }
@@ -537,6 +539,12 @@ void CastRiemannImpl(const Volume& volume, const TransferTable& tf, const double
         volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
     case Volume::Type::UInt16:
       return Cast<Volume::Type::UInt16>(
+        volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+    case Volume::Type::Int8:
+      return Cast<Volume::Type::Int8>(
+        volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
+    case Volume::Type::Int16:
+      return Cast<Volume::Type::Int16>(
         volume, tf, origin, direction, D, h, segments, count, terminationBound, out);
     default:
       return Cast<Volume::Type::Float32>(
@@ -594,8 +602,9 @@ std::string Validate(const Volume& volume)
     points *= volume.Dimensions[a];
   }
   // 16-bit scalars are gathered by byte offset: twice the index.
-  if (points * (volume.Scalars == Volume::Type::UInt16 ? 2.0 : 1.0) >
-    double(std::numeric_limits<std::int32_t>::max()))
+  const bool words =
+    volume.Scalars == Volume::Type::UInt16 || volume.Scalars == Volume::Type::Int16;
+  if (points * (words ? 2.0 : 1.0) > double(std::numeric_limits<std::int32_t>::max()))
   {
     return "the vectorised kernels take at most 2^31 - 1 points (2^30 of 16-bit scalars: 32-bit "
            "gather offsets)";

@@ -143,17 +143,19 @@ inline an::TransferFunction<double> Steps()
   return tf;
 }
 
-// Up to `knots` random knots over [0, top] (some repeated: jumps), extinction
-// up to `peak`, random colours; `integral`: knots on whole scalar values.
-inline an::TransferFunction<double> Random(
-  unsigned seed, int knots, double peak, double top = 255.0, bool integral = false)
+// Up to `knots` random knots over [bottom, top] (some repeated: jumps),
+// extinction up to `peak`, random colours; `integral`: knots on whole scalar
+// values.
+inline an::TransferFunction<double> Random(unsigned seed, int knots, double peak,
+  double top = 255.0, bool integral = false, double bottom = 0.0)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<double> values(static_cast<std::size_t>(knots));
   for (double& v : values)
   {
-    v = integral ? std::round(top * u(rng)) : top * u(rng);
+    const double x = bottom + (top - bottom) * u(rng);
+    v = integral ? std::round(x) : x;
   }
   std::sort(values.begin(), values.end());
   an::TransferFunction<double> tf;

@@ -155,7 +155,7 @@ TEST(EmptySpace, BlockRangesAndClassification)
     const int cells = N[a] - 1, size = EmptySpaceMap<double>::BlockSize;
     EXPECT_EQ(map.GetNumberOfBlocks(a), (cells + size - 1) / size);
   }
-  EXPECT_EQ(map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2)), 0u);
+  EXPECT_EQ(map.ComputeRanges(data.data()), 0u);
   const std::size_t visible = map.Classify(BlobTF());
   EXPECT_GT(visible, 0u);
   EXPECT_LT(visible, map.GetNumberOfBlocks() / 2);
@@ -169,7 +169,82 @@ TEST(EmptySpace, BlockRangesAndClassification)
 
   std::vector<float> withNaN(data.begin(), data.end());
   withNaN[100] = std::nanf("");
-  EXPECT_EQ(map.ComputeRanges(withNaN.data(), 0, map.GetNumberOfBlocks(2)), 1u);
+  EXPECT_EQ(map.ComputeRanges(withNaN.data()), 1u);
+}
+
+// Each block's range as kept against the brute-force range of its grid
+// points: integers of 16 bits or fewer exactly, in 4 bytes per block; any
+// other type widened to the neighbouring floats, never narrowed.
+template <typename Storage>
+void CheckRanges(double low, double high, bool exact)
+{
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(low, high);
+  std::vector<Storage> data(static_cast<std::size_t>(N[0]) * N[1] * N[2]);
+  for (Storage& v : data)
+  {
+    v = static_cast<Storage>(exact ? std::round(u(rng)) : u(rng));
+  }
+  EmptySpaceMap<double> map;
+  map.SetDimensions(N);
+  ASSERT_EQ(map.ComputeRanges(data.data()), 0u);
+  const int B = EmptySpaceMap<double>::BlockSize;
+  std::size_t index = 0;
+  for (int bz = 0; bz < map.GetNumberOfBlocks(2); ++bz)
+  {
+    for (int by = 0; by < map.GetNumberOfBlocks(1); ++by)
+    {
+      for (int bx = 0; bx < map.GetNumberOfBlocks(0); ++bx, ++index)
+      {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (int k = bz * B; k <= std::min(bz * B + B, N[2] - 1); ++k)
+        {
+          for (int j = by * B; j <= std::min(by * B + B, N[1] - 1); ++j)
+          {
+            for (int i = bx * B; i <= std::min(bx * B + B, N[0] - 1); ++i)
+            {
+              const double v = double(data[i + N[0] * (j + static_cast<std::size_t>(N[1]) * k)]);
+              lo = std::min(lo, v);
+              hi = std::max(hi, v);
+            }
+          }
+        }
+        if (exact)
+        {
+          ASSERT_EQ(map.GetMinimum(index), lo);
+          ASSERT_EQ(map.GetMaximum(index), hi);
+        }
+        else
+        {
+          ASSERT_LE(map.GetMinimum(index), lo);
+          ASSERT_GE(map.GetMaximum(index), hi);
+          // Within a float's rounding where floats reach.
+          const double top = std::numeric_limits<float>::max();
+          if (std::abs(lo) < top && std::abs(hi) < top)
+          {
+            ASSERT_LE(lo - map.GetMinimum(index), std::abs(lo) * 0x1p-23);
+            ASSERT_LE(map.GetMaximum(index) - hi, std::abs(hi) * 0x1p-23);
+          }
+        }
+      }
+    }
+  }
+  const std::size_t blocks = map.GetNumberOfBlocks();
+  EXPECT_GE(map.GetSize(), blocks * ((exact ? 4 : 8) + 1));
+  EXPECT_LE(map.GetSize(), blocks * ((exact ? 4 : 8) + 2));
+}
+
+TEST(EmptySpace, RangesKeptExactOrWidenedOutward)
+{
+  CheckRanges<std::uint8_t>(0, 255, true);
+  CheckRanges<std::int8_t>(-128, 127, true);
+  CheckRanges<char>(0, 127, true);
+  CheckRanges<std::uint16_t>(0, 65535, true);
+  CheckRanges<std::int16_t>(-32768, 32767, true);
+  CheckRanges<float>(-1e3, 1e3, false);
+  CheckRanges<double>(-1e3, 1e3, false);
+  CheckRanges<double>(-1e300, 1e300, false); // beyond float: infinite bounds
+  CheckRanges<std::int32_t>(-2e9, 2e9, false);
 }
 
 TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)
@@ -179,7 +254,7 @@ TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)
   const TransferFunction<double> tf = BlobTF();
   EmptySpaceMap<double> map;
   map.SetDimensions(N);
-  map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2));
+  map.ComputeRanges(data.data());
   map.Classify(tf);
 
   AdaptiveSettings<double> settings;
@@ -266,7 +341,7 @@ TEST(EmptySpace, SegmentsAreExactlyTheVisibleBlocks)
   tf.AddOpacityKnot(255, 0.5);
   EmptySpaceMap<double> map;
   map.SetDimensions(dims);
-  map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2));
+  map.ComputeRanges(data.data());
   const std::size_t visible = map.Classify(tf);
   ASSERT_GT(visible, map.GetNumberOfBlocks() / 5);
   ASSERT_LT(visible, map.GetNumberOfBlocks() * 4 / 5);

@@ -123,7 +123,7 @@ TEST(Extremum, BestFirstBlocksFindTheSameExtremum)
   const an::TrilinearVolume<double, unsigned char> volume(data.data(), dims);
   an::EmptySpaceMap<double> map;
   map.SetDimensions(dims);
-  map.ComputeRanges(data.data(), 0, map.GetNumberOfBlocks(2));
+  map.ComputeRanges(data.data());
   std::vector<an::EmptySpaceMap<double>::Span> spans;
   for (int trial = 0; trial < 500; ++trial)
   {

@@ -230,7 +230,7 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
   // mapper's pad; without it, the whole ray.
   an::EmptySpaceMap<double> map;
   map.SetDimensions(dims);
-  map.ComputeRanges(values, 0, map.GetNumberOfBlocks(2));
+  map.ComputeRanges(values);
   map.Classify(tf);
   const double pad = doubleRays ? 1e-6 : 1e-3;
   for (int skipping = 0; skipping < 2; ++skipping)

@@ -42,12 +42,11 @@ struct PieceKernels
 {
   PieceKernels() = default;
   // `scalars`: the walk's volume as the engine reads it (the same values).
-  // Float32 scalars, or a volume Validate refuses, leave the cells' stage to
-  // numerics::ScalarCellKernels.
+  // Scalars the cell kernels do not read (ReadsCells), or a volume Validate
+  // refuses, leave the cells' stage to numerics::ScalarCellKernels.
   explicit PieceKernels(const Volume* scalars)
-    : Scalars(scalars && scalars->Scalars != Volume::Type::Float32 && Validate(*scalars).empty()
-          ? scalars
-          : nullptr)
+    : Scalars(
+        scalars && ReadsCells(scalars->Scalars) && Validate(*scalars).empty() ? scalars : nullptr)
   {
   }
 

@@ -47,25 +47,33 @@ namespace engine
 {
 
 // A scalar volume, x fastest, at most 2^31 - 1 points (32-bit gather
-// indices; 2^30 of 16-bit scalars, gathered by byte offset). 8- and 16-bit
+// indices; 2^30 of 16-bit scalars, gathered by byte offset), read in place:
+// the kernels need no copy and no padding (ScalarWords-inl.h). 8- and 16-bit
 // scalars are read as they are (one 32-bit gather fetches a corner and its x
-// neighbour: half the gathers of float, and a quarter or half the memory);
-// they need Padding readable bytes after the last point. Any other type is
-// converted to float by the caller.
+// neighbour: half the gathers of float, and a quarter or half the memory).
+// Any other type is converted to float by the caller.
 struct Volume
 {
   enum class Type
   {
     Float32,
     UInt8,
-    UInt16
+    UInt16,
+    Int8,
+    Int16
   };
-  static constexpr std::size_t Padding = 4;
 
   const void* Data = nullptr;
   Type Scalars = Type::Float32;
   int Dimensions[3] = { 0, 0, 0 };
 };
+
+// Whether the piecewise method's cell kernels read scalars of this type:
+// their unit tables are indexed by 8- and 16-bit unsigned scalars.
+inline bool ReadsCells(Volume::Type type)
+{
+  return type == Volume::Type::UInt8 || type == Volume::Type::UInt16;
+}
 
 // Opacity and colour, each linear on a piece (the value at the piece's start
 // and the slope), in float, one entry per piece.
