@@ -69,6 +69,34 @@ void Basis(const glm::dvec3& n, glm::dvec3& u, glm::dvec3& w)
   u = glm::normalize(glm::cross(n, helper));
   w = glm::cross(n, u);
 }
+
+// The cone rays' directions around `normal` (any length): perCone rays
+// evenly around each opening angle, cone by cone. False, with nothing
+// written, for a zero or non-finite normal.
+bool ConeDirections(
+  glm::dvec3 normal, const std::vector<double>& angles, int perCone, glm::dvec3* directions)
+{
+  const double length = glm::length(normal);
+  if (!(length > 0.0) || !std::isfinite(length))
+  {
+    return false;
+  }
+  normal /= length;
+  glm::dvec3 u, w;
+  Basis(normal, u, w);
+  std::size_t r = 0;
+  for (double angle : angles)
+  {
+    const double theta = vtkMath::RadiansFromDegrees(angle);
+    for (int k = 0; k < perCone; ++k, ++r)
+    {
+      const double phi = 2.0 * vtkMath::Pi() * k / perCone;
+      directions[r] =
+        std::cos(theta) * normal + std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * w);
+    }
+  }
+  return true;
+}
 } // namespace
 
 class vtkVolumeOnSurfaceFilter::vtkInternals
@@ -79,6 +107,7 @@ public:
   bool HaveRays = false;
   avos::EmptySpaceCache EmptySpace;
   avos::EngineVolume EngineScalars;
+  const avos::VolumeRaySetup* Setup = nullptr; // while CastCones runs
   // Per vertex and ray: the direction (world) and the integrated RGBA.
   std::vector<glm::fvec3> Directions;
   std::vector<glm::fvec4> Colors;
@@ -244,48 +273,75 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   const vtkSmartPointer<vtkImageData> volume =
     this->AssembleVolume(received, inputVector[1]->GetInformationObject(0));
   vtkPolyData* output = vtkPolyData::GetData(outputVector);
-  vtkInternals& in = *this->Internals;
   this->NumberOfRaysCast = 0;
+  // A clear error and an empty output for each bad input.
+  if (!this->ValidateInputs(surface, received, volume))
+  {
+    return 1;
+  }
+  vtkPolyData* withNormals = this->UpdateNormals(surface);
+  if (!this->Previsualize(volume, withNormals))
+  {
+    return 1;
+  }
+  this->AssignColours(withNormals, output);
+  // The technique's memory (the paper's Table III).
+  vtkInternals& in = *this->Internals;
+  this->VolumeMemory =
+    static_cast<vtkIdType>(volume->GetPointData()->GetScalars()->GetActualMemorySize()) * 1024;
+  this->SurfaceMemory =
+    static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
+      withNormals->GetPointData()->GetNormals()->GetActualMemorySize() +
+      withNormals->GetPolys()->GetActualMemorySize() +
+      output->GetPointData()->GetScalars()->GetActualMemorySize()) *
+    1024;
+  this->ConesMemory = static_cast<vtkIdType>(
+    in.Directions.size() * sizeof(glm::fvec3) + in.Colors.size() * sizeof(glm::fvec4));
+  return 1;
+}
 
-  // Checks: a clear error and an empty output for each bad input (the
-  // volume's own are VolumeRaySetup::Prepare's, below).
+bool vtkVolumeOnSurfaceFilter::ValidateInputs(
+  vtkPolyData* surface, vtkImageData* received, vtkImageData* volume)
+{
+  // The volume's own checks are VolumeRaySetup::Prepare's (Previsualize).
+  vtkInternals& in = *this->Internals;
   if (!surface || surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro(<< "The surface (input 0) is empty.");
-    return 1;
+    return false;
   }
   if (!received)
   {
     vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
-    return 1;
+    return false;
   }
   if (!volume)
   {
-    return 1; // AssembleVolume said why
+    return false; // AssembleVolume said why
   }
   if (!this->VolumeProperty)
   {
     vtkErrorMacro(<< "No volume property: SetVolumeProperty().");
-    return 1;
+    return false;
   }
   if (this->RaysPerCone < 1 || in.Angles.empty())
   {
     vtkErrorMacro(<< "There must be at least one cone and one ray per cone (cones: "
                   << in.Angles.size() << ", rays per cone: " << this->RaysPerCone << ").");
-    return 1;
+    return false;
   }
   for (double a : in.Angles)
   {
     if (!(a > 0.0 && a <= 90.0))
     {
       vtkErrorMacro(<< "Opening angles must be in (0, 90] degrees, not " << a << ".");
-      return 1;
+      return false;
     }
   }
   if (!this->Camera)
   {
     vtkErrorMacro(<< "No camera to assign the colours for: SetCamera().");
-    return 1;
+    return false;
   }
   double surfaceBounds[6], volumeBounds[6];
   surface->GetBounds(surfaceBounds);
@@ -299,11 +355,15 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   if (!overlap)
   {
     vtkErrorMacro(<< "The surface lies outside the volume.");
-    return 1;
   }
+  return overlap;
+}
 
-  // Normals: the input's, or computed (once per surface: a camera change
-  // must stay cheap).
+vtkPolyData* vtkVolumeOnSurfaceFilter::UpdateNormals(vtkPolyData* surface)
+{
+  // The input's, or computed once per surface: a camera change must stay
+  // cheap.
+  vtkInternals& in = *this->Internals;
   if (surface->GetPointData()->GetNormals())
   {
     in.WithNormals = surface;
@@ -319,12 +379,13 @@ int vtkVolumeOnSurfaceFilter::RequestData(
     in.NormalsSource = surface;
     in.NormalsTime = surface->GetMTime();
   }
-  vtkPolyData* withNormals = in.WithNormals;
-  vtkDataArray* normals = withNormals->GetPointData()->GetNormals();
-  const vtkIdType n = withNormals->GetNumberOfPoints();
-  const int raysPerVertex = static_cast<int>(in.Angles.size()) * this->RaysPerCone;
+  return in.WithNormals;
+}
 
-  // Previsualization, unless nothing it depends on changed.
+bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* withNormals)
+{
+  // Unless nothing it depends on changed.
+  vtkInternals& in = *this->Internals;
   PrevisualizationKey key;
   key.Angles = in.Angles;
   key.RaysPerCone = this->RaysPerCone;
@@ -334,120 +395,125 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   key.Tolerance = this->Tolerance;
   key.Extinction = this->ExtinctionOpacity != 0;
   key.Skipping = this->EmptySpaceSkipping != 0;
-  key.Surface = surface->GetMTime();
+  key.Surface = withNormals->GetMTime();
   vtkDataArray* volumeScalars = volume->GetPointData()->GetScalars();
   key.VolumeScalars = volumeScalars ? volumeScalars->GetMTime() : 0;
   GetGrid(volume, key.VolumeGrid.data());
   key.Property = this->VolumeProperty->GetMTime();
-  if (!in.HaveRays || !(key == in.Key))
+  if (in.HaveRays && key == in.Key)
   {
-    in.HaveRays = false;
-    avos::VolumeRaySetup setup;
-    const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
-      static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
-      this->Tolerance);
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
-      return 1;
-    }
-    setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
-    setup.Engine = avos::ReadsEngineScalars(setup)
-      ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
-      : nullptr;
-    in.Directions.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec3(0.0f));
-    in.Colors.assign(static_cast<std::size_t>(n) * raysPerVertex, glm::fvec4(0.0f));
-    const double sign = this->FlipNormals ? -1.0 : 1.0;
-    const int perCone = this->RaysPerCone;
-    avos::engine::WorkMonitor monitor;
-    avos::RayFailures failures;
-    auto previsualize = [&](const auto& caster)
-    {
-      vtkSMPTools::For(0, n,
-        [&](vtkIdType begin, vtkIdType end)
-        {
-          // A vertex's cone rays are cast together (their empty-space walks
-          // in SIMD lanes).
-          const std::size_t perVertex = static_cast<std::size_t>(raysPerVertex);
-          std::vector<glm::dvec3> starts(perVertex), directions(perVertex);
-          const std::vector<double> reaches(perVertex, std::numeric_limits<double>::infinity());
-          std::vector<avos::numerics::RayResult<double>> rays(perVertex);
-          for (vtkIdType v = begin; v < end && !monitor.Aborted(); ++v, monitor.Finished(1))
-          {
-            double p[3], nv[3];
-            withNormals->GetPoint(v, p);
-            normals->GetTuple(v, nv);
-            glm::dvec3 normal(nv[0], nv[1], nv[2]);
-            const double length = glm::length(normal);
-            if (!(length > 0.0) || !std::isfinite(length))
-            {
-              continue; // no normal, no cones: the vertex stays unassigned
-            }
-            normal *= sign / length;
-            glm::dvec3 u, w;
-            Basis(normal, u, w);
-            const std::size_t first = static_cast<std::size_t>(v) * perVertex;
-            std::size_t r = 0;
-            for (double angle : in.Angles)
-            {
-              const double theta = vtkMath::RadiansFromDegrees(angle);
-              for (int k = 0; k < perCone; ++k, ++r)
-              {
-                const double phi = 2.0 * vtkMath::Pi() * k / perCone;
-                directions[r] = std::cos(theta) * normal +
-                  std::sin(theta) * (std::cos(phi) * u + std::sin(phi) * w);
-                starts[r] = glm::dvec3(p[0], p[1], p[2]);
-              }
-            }
-            caster.Cast(perVertex, starts.data(), directions.data(), reaches.data(), rays.data());
-            for (r = 0; r < perVertex; ++r)
-            {
-              if (!rays[r].Error.empty())
-              {
-                failures.Add(rays[r].Error);
-              }
-              in.Directions[first + r] = glm::fvec3(directions[r]);
-              in.Colors[first + r] = glm::fvec4(rays[r].RGBA);
-            }
-          }
-        });
-    };
-    // The previsualization is the long part (all cone rays): progress and
-    // AbortExecute are honoured while it runs (within WorkMonitor::Interval
-    // plus one vertex's rays per thread); an aborted run leaves no output.
-    bool dispatched = true;
-    const bool completed = monitor.Run(
-      n, [&] { dispatched = setup.Dispatch(previsualize); },
-      [this](double fraction)
-      {
-        this->UpdateProgress(fraction);
-        return this->GetAbortExecute() != 0;
-      });
-    if (!dispatched)
-    {
-      vtkErrorMacro(<< "Unsupported scalar type " << setup.Scalars->GetDataTypeAsString() << ".");
-      return 1;
-    }
-    if (failures.GetCount() > 0)
-    {
-      vtkErrorMacro(<< failures.GetMessage() << ".");
-    }
-    if (!completed || failures.GetCount() > 0)
-    {
-      in.Directions.clear();
-      in.Colors.clear();
-      return 1;
-    }
-    in.Key = key;
-    // Read again after the transfer functions were: a
-    // vtkDiscretizableColorTransferFunction (ParaView's colour maps) builds
-    // its table on first use, which modifies it without changing a value.
-    in.Key.Property = this->VolumeProperty->GetMTime();
-    in.HaveRays = true;
-    this->NumberOfRaysCast = n * raysPerVertex;
+    return true;
   }
+  in.HaveRays = false;
+  avos::VolumeRaySetup setup;
+  const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
+    static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
+    this->Tolerance);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
+    return false;
+  }
+  setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
+  setup.Engine = avos::ReadsEngineScalars(setup)
+    ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
+    : nullptr;
+  in.Setup = &setup;
+  const bool cast = this->CastCones(withNormals);
+  in.Setup = nullptr;
+  if (!cast)
+  {
+    in.Directions.clear();
+    in.Colors.clear();
+    return false;
+  }
+  in.Key = key;
+  // Read again after the transfer functions were: a
+  // vtkDiscretizableColorTransferFunction (ParaView's colour maps) builds
+  // its table on first use, which modifies it without changing a value.
+  in.Key.Property = this->VolumeProperty->GetMTime();
+  in.HaveRays = true;
+  this->NumberOfRaysCast = static_cast<vtkIdType>(in.Colors.size());
+  return true;
+}
 
-  // Vertex colour assignment for the camera.
+bool vtkVolumeOnSurfaceFilter::CastCones(vtkPolyData* withNormals)
+{
+  vtkInternals& in = *this->Internals;
+  const avos::VolumeRaySetup& setup = *in.Setup;
+  vtkDataArray* normals = withNormals->GetPointData()->GetNormals();
+  const vtkIdType n = withNormals->GetNumberOfPoints();
+  const std::size_t perVertex = in.Angles.size() * static_cast<std::size_t>(this->RaysPerCone);
+  in.Directions.assign(static_cast<std::size_t>(n) * perVertex, glm::fvec3(0.0f));
+  in.Colors.assign(static_cast<std::size_t>(n) * perVertex, glm::fvec4(0.0f));
+  const double sign = this->FlipNormals ? -1.0 : 1.0;
+  avos::engine::WorkMonitor monitor;
+  avos::RayFailures failures;
+  auto previsualize = [&](const auto& caster)
+  {
+    vtkSMPTools::For(0, n,
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        // A vertex's cone rays are cast together (their empty-space walks
+        // in SIMD lanes).
+        std::vector<glm::dvec3> starts(perVertex), directions(perVertex);
+        const std::vector<double> reaches(perVertex, std::numeric_limits<double>::infinity());
+        std::vector<avos::numerics::RayResult<double>> rays(perVertex);
+        for (vtkIdType v = begin; v < end && !monitor.Aborted(); ++v, monitor.Finished(1))
+        {
+          double p[3], nv[3];
+          withNormals->GetPoint(v, p);
+          normals->GetTuple(v, nv);
+          if (!ConeDirections(glm::dvec3(nv[0], nv[1], nv[2]) * sign, in.Angles, this->RaysPerCone,
+                directions.data()))
+          {
+            continue; // no normal, no cones: the vertex stays unassigned
+          }
+          std::fill(starts.begin(), starts.end(), glm::dvec3(p[0], p[1], p[2]));
+          caster.Cast(perVertex, starts.data(), directions.data(), reaches.data(), rays.data());
+          const std::size_t first = static_cast<std::size_t>(v) * perVertex;
+          for (std::size_t r = 0; r < perVertex; ++r)
+          {
+            if (!rays[r].Error.empty())
+            {
+              failures.Add(rays[r].Error);
+            }
+            in.Directions[first + r] = glm::fvec3(directions[r]);
+            in.Colors[first + r] = glm::fvec4(rays[r].RGBA);
+          }
+        }
+      });
+  };
+  // The previsualization is the long part (all cone rays): progress and
+  // AbortExecute are honoured while it runs (within WorkMonitor::Interval
+  // plus one vertex's rays per thread); an aborted run leaves no output.
+  bool dispatched = true;
+  const bool completed = monitor.Run(
+    n, [&] { dispatched = setup.Dispatch(previsualize); },
+    [this](double fraction)
+    {
+      this->UpdateProgress(fraction);
+      return this->GetAbortExecute() != 0;
+    });
+  if (!dispatched)
+  {
+    vtkErrorMacro(<< "Unsupported scalar type " << setup.Scalars->GetDataTypeAsString() << ".");
+    return false;
+  }
+  if (failures.GetCount() > 0)
+  {
+    vtkErrorMacro(<< failures.GetMessage() << ".");
+  }
+  return completed && failures.GetCount() == 0;
+}
+
+void vtkVolumeOnSurfaceFilter::AssignColours(vtkPolyData* withNormals, vtkPolyData* output)
+{
+  // Each vertex takes the colour of its ray with the largest positive dot
+  // product with the observation line (none: transparent).
+  vtkInternals& in = *this->Internals;
+  const vtkIdType n = withNormals->GetNumberOfPoints();
+  const int raysPerVertex = static_cast<int>(in.Angles.size()) * this->RaysPerCone;
   double eye[3], projection[3];
   this->Camera->GetPosition(eye);
   this->Camera->GetDirectionOfProjection(projection);
@@ -493,23 +559,10 @@ int vtkVolumeOnSurfaceFilter::RequestData(
         chosen->SetValue(v, best);
       }
     });
-
   output->ShallowCopy(withNormals);
   output->GetPointData()->SetScalars(colors);
   output->GetPointData()->AddArray(display);
   output->GetPointData()->AddArray(chosen);
-
-  // The technique's memory (the paper's Table III).
-  this->VolumeMemory =
-    static_cast<vtkIdType>(volume->GetPointData()->GetScalars()->GetActualMemorySize()) * 1024;
-  this->SurfaceMemory =
-    static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
-      normals->GetActualMemorySize() + withNormals->GetPolys()->GetActualMemorySize() +
-      colors->GetActualMemorySize()) *
-    1024;
-  this->ConesMemory = static_cast<vtkIdType>(
-    in.Directions.size() * sizeof(glm::fvec3) + in.Colors.size() * sizeof(glm::fvec4));
-  return 1;
 }
 
 void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)

@@ -199,6 +199,22 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
+  ///@{
+  /**
+   * The stages of RequestData, in the order data flows: the inputs checked
+   * (an error and an empty output for each bad one), the surface's normals
+   * (the input's, or computed once per surface), the previsualization (the
+   * cone rays of every vertex, cast by CastCones with the ray set-up it
+   * prepared, unless nothing they depend on changed) and the colour of each
+   * vertex for the camera.
+   */
+  bool ValidateInputs(vtkPolyData* surface, vtkImageData* received, vtkImageData* volume);
+  vtkPolyData* UpdateNormals(vtkPolyData* surface);
+  bool Previsualize(vtkImageData* volume, vtkPolyData* withNormals);
+  bool CastCones(vtkPolyData* withNormals);
+  void AssignColours(vtkPolyData* withNormals, vtkPolyData* output);
+  ///@}
+
   /**
    * The volume the rays cross, from what input port 1 received (null when
    * nothing) and its information. This filter asks for the whole volume; a

@@ -629,6 +629,34 @@ public:
   avos::EmptySpaceCache EmptySpace;
   avos::EngineVolume EngineScalars;
 
+  // This frame's inputs (ValidateInputs), its view and key (UpdateView:
+  // NextKey becomes Key when the view is new), and the first level's cast
+  // vertices when ChooseLevel computed them.
+  vtkPolyData* Surface = nullptr;
+  vtkImageData* Volume = nullptr;
+  ViewKey NextKey;
+  VertexView View{};
+  std::vector<unsigned char> FirstCast;
+
+  // What colouring a level passes from stage to stage.
+  struct Pass
+  {
+    bool Spread = false;               // the full surface drawn, the level's colours spread
+    vtkPolyData* Drawn = nullptr;      // the level's surface or the full one
+    std::vector<unsigned char> Cast;   // per drawn vertex: it faces the eye
+    std::vector<unsigned char> Needed; // per drawn vertex: not hidden; empty: no depth pass
+    std::vector<Colour> SpreadColors;  // per drawn vertex, when spread
+    const avos::VolumeRaySetup* Setup = nullptr; // while CastLevelRays runs
+
+    // A drawn vertex wants a colour when it is cast and not hidden.
+    bool Wants(vtkIdType d) const
+    {
+      const std::size_t i = static_cast<std::size_t>(d);
+      return this->Cast[i] && (this->Needed.empty() || this->Needed[i]);
+    }
+  };
+  Pass Current;
+
   // The surfaces drawn so far, by level (FullSurface: the full one), and
   // the one drawn last (null before the first).
   std::map<int, std::unique_ptr<Drawing>> Drawings;
@@ -750,97 +778,138 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
   this->NumberOfReusedColors = 0;
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
+  if (!this->ValidateInputs() || !this->UpdateLevels(ren))
+  {
+    return;
+  }
+  const bool newView = this->UpdateView(ren);
+  const int level = this->ChooseLevel(ren, newView);
+  if (newView)
+  {
+    this->StartView();
+  }
+  if (level != in.DrawnLevel && !this->ColourLevel(ren, act, level))
+  {
+    in.HaveKey = false; // nothing coloured: the next frame starts again
+    return;
+  }
+  this->LastLevelOfDetail = level;
+  timer->StopTimer();
+  this->ColoringTime = timer->GetElapsedTime();
+  if (this->NumberOfRaysCast > 0)
+  {
+    in.SecondsPerRay =
+      std::max(0.0, this->ColoringTime - (this->LastDepthPass ? in.PassSeconds : 0.0)) /
+      static_cast<double>(this->NumberOfRaysCast);
+  }
+  if (in.Active)
+  {
+    in.Active->Delegate->SetClippingPlanes(this->ClippingPlanes);
+    in.Active->Delegate->Render(ren, act);
+  }
+}
 
-  // Inputs.
+bool vtkVolumeOnSurfaceMapper::ValidateInputs()
+{
+  vtkInternals& in = *this->Internals;
   if (this->GetNumberOfInputConnections(1) < 1)
   {
     vtkErrorMacro(<< "No volume: connect one to input port 1 (SetVolumeConnection).");
-    return;
+    return false;
   }
   this->GetInputAlgorithm(0, 0)->Update();
   this->GetInputAlgorithm(1, 0)->Update();
-  vtkPolyData* surface = this->GetInput();
-  vtkImageData* volume = vtkImageData::SafeDownCast(this->GetInputDataObject(1, 0));
-  if (!surface || surface->GetNumberOfPoints() == 0)
+  in.Surface = this->GetInput();
+  in.Volume = vtkImageData::SafeDownCast(this->GetInputDataObject(1, 0));
+  if (!in.Surface || in.Surface->GetNumberOfPoints() == 0)
   {
     vtkErrorMacro(<< "The surface (input 0) is empty.");
-    return;
+    return false;
   }
-  if (!surface->GetPointData()->GetNormals())
+  if (!in.Surface->GetPointData()->GetNormals())
   {
     vtkErrorMacro(<< "The surface needs point normals (vtkFlyingEdges3D::ComputeNormalsOn, or "
                      "vtkPolyDataNormals).");
-    return;
+    return false;
   }
   if (!this->VolumeProperty || in.Reductions.empty())
   {
     vtkErrorMacro(<< "No volume property, or no level of detail.");
-    return;
+    return false;
   }
   for (double r : in.Reductions)
   {
     if (!(r >= 0.0 && r < 1.0))
     {
       vtkErrorMacro(<< "Level-of-detail reductions must be in [0, 1), not " << r << ".");
-      return;
+      return false;
     }
   }
+  return true;
+}
 
-  // Levels of detail, once per surface.
-  if (in.Levels.empty() || in.LevelsSource != surface || in.LevelsTime != surface->GetMTime())
+bool vtkVolumeOnSurfaceMapper::UpdateLevels(vtkRenderer* ren)
+{
+  vtkInternals& in = *this->Internals;
+  vtkPolyData* surface = in.Surface;
+  if (!in.Levels.empty() && in.LevelsSource == surface && in.LevelsTime == surface->GetMTime())
   {
-    in.Levels.clear();
-    for (double r : in.Reductions)
-    {
-      Level level;
-      if (r == 0.0)
-      {
-        level.Surface = surface;
-        level.FullIds.resize(static_cast<std::size_t>(surface->GetNumberOfPoints()));
-        for (std::size_t i = 0; i < level.FullIds.size(); ++i)
-        {
-          level.FullIds[i] = static_cast<vtkIdType>(i);
-        }
-      }
-      else
-      {
-        vtkNew<vtkOpenMeshDecimation> decimate;
-        decimate->SetInputData(surface);
-        decimate->SetTargetReduction(r);
-        decimate->Update();
-        level.Surface = decimate->GetOutput();
-        auto* ids = vtkIdTypeArray::SafeDownCast(
-          level.Surface->GetPointData()->GetArray("vtkOriginalPointIds"));
-        if (!ids)
-        {
-          vtkErrorMacro(<< "Decimating the surface to level " << r << " failed.");
-          in.Levels.clear();
-          return;
-        }
-        level.FullIds.assign(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfTuples());
-      }
-      in.Levels.push_back(level);
-    }
-    in.LevelsSource = surface;
-    in.LevelsTime = surface->GetMTime();
-    in.HaveKey = false;
-    in.ReleaseDrawings(ren->GetRenderWindow());
+    return true;
   }
+  in.Levels.clear();
+  for (double r : in.Reductions)
+  {
+    Level level;
+    if (r == 0.0)
+    {
+      level.Surface = surface;
+      level.FullIds.resize(static_cast<std::size_t>(surface->GetNumberOfPoints()));
+      for (std::size_t i = 0; i < level.FullIds.size(); ++i)
+      {
+        level.FullIds[i] = static_cast<vtkIdType>(i);
+      }
+    }
+    else
+    {
+      vtkNew<vtkOpenMeshDecimation> decimate;
+      decimate->SetInputData(surface);
+      decimate->SetTargetReduction(r);
+      decimate->Update();
+      level.Surface = decimate->GetOutput();
+      auto* ids = vtkIdTypeArray::SafeDownCast(
+        level.Surface->GetPointData()->GetArray("vtkOriginalPointIds"));
+      if (!ids)
+      {
+        vtkErrorMacro(<< "Decimating the surface to level " << r << " failed.");
+        in.Levels.clear();
+        return false;
+      }
+      level.FullIds.assign(ids->GetPointer(0), ids->GetPointer(0) + ids->GetNumberOfTuples());
+    }
+    in.Levels.push_back(level);
+  }
+  in.LevelsSource = surface;
+  in.LevelsTime = surface->GetMTime();
+  in.HaveKey = false;
+  in.ReleaseDrawings(ren->GetRenderWindow());
+  return true;
+}
 
-  // The view.
+bool vtkVolumeOnSurfaceMapper::UpdateView(vtkRenderer* ren)
+{
+  vtkInternals& in = *this->Internals;
   vtkCamera* camera = ren->GetActiveCamera();
   vtkMatrix4x4* projection =
     camera->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-  ViewKey key;
+  ViewKey& key = in.NextKey;
+  key = ViewKey();
   std::copy(projection->GetData(), projection->GetData() + 16, key.Projection.begin());
   camera->GetPosition(key.Eye.data());
   key.Parallel = camera->GetParallelProjection() != 0;
   double direction[3];
   camera->GetDirectionOfProjection(direction);
-  const VertexView view{ key.Projection.data(), glm::dvec3(key.Eye[0], key.Eye[1], key.Eye[2]),
-    -glm::dvec3(direction[0], direction[1], direction[2]), key.Parallel };
-  key.Surface = surface->GetMTime();
-  key.Volume = volume->GetMTime();
+  key.Surface = in.Surface->GetMTime();
+  key.Volume = in.Volume->GetMTime();
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
     double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping), double(this->VisibilityTest),
@@ -856,251 +925,277 @@ void vtkVolumeOnSurfaceMapper::Render(vtkRenderer* ren, vtkActor* act)
       key.Planes.insert(key.Planes.end(), { o[0], o[1], o[2], n[0], n[1], n[2] });
     }
   }
-  // The level: forced, or the coarser of two: the finest whose estimated
-  // colouring time fits the frame time the window asks for, and the coarsest
-  // whose cast vertices are still at most PixelsPerVertex covered pixels
-  // apart (more vertices add rays, not detail the screen can show).
-  const bool newView = !in.HaveKey || !(key == in.Key);
+  // The view points into the key's own storage, which lives as long as it.
+  in.View = VertexView{ key.Projection.data(), glm::dvec3(key.Eye[0], key.Eye[1], key.Eye[2]),
+    -glm::dvec3(direction[0], direction[1], direction[2]), key.Parallel };
+  return !in.HaveKey || !(key == in.Key);
+}
+
+int vtkVolumeOnSurfaceMapper::ChooseLevel(vtkRenderer* ren, bool newView)
+{
+  // Forced, or the coarser of two: the finest whose estimated colouring
+  // time fits the frame time the window asks for, and the coarsest whose
+  // cast vertices are still at most PixelsPerVertex covered pixels apart
+  // (more vertices add rays, not detail the screen can show).
+  vtkInternals& in = *this->Internals;
   const int levels = static_cast<int>(in.Levels.size());
-  int levelIndex = std::min(this->LevelOfDetail, levels - 1);
-  std::vector<unsigned char> firstCast; // the first level's cast vertices, when computed
-  if (this->LevelOfDetail < 0)
+  in.FirstCast.clear();
+  if (this->LevelOfDetail >= 0)
   {
-    const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
-    const double budget = rate > 0.0 ? 1.0 / rate : VTK_DOUBLE_MAX;
-    levelIndex = levels - 1;
-    for (int l = 0; l < levels; ++l)
-    {
-      if (in.SecondsPerRay * in.Levels[l].Surface->GetNumberOfPoints() <= budget)
-      {
-        levelIndex = l;
-        break;
-      }
-    }
-    if (newView || in.FullPixelsPerVertex < 0.0)
-    {
-      const int* size = ren->GetSize();
-      firstCast = CastVertices(in.Levels[0].Surface, view);
-      in.FullPixelsPerVertex =
-        ScreenPixelsPerVertex(in.Levels[0].Surface, firstCast, view, size[0], size[1]);
-    }
-    int dense = 0;
-    const double full = static_cast<double>(in.Levels[0].Surface->GetNumberOfPoints());
-    for (int l = levels - 1; this->PixelsPerVertex > 0.0 && l > 0; --l)
-    {
-      const double points = static_cast<double>(in.Levels[l].Surface->GetNumberOfPoints());
-      if (in.FullPixelsPerVertex * full / points <= this->PixelsPerVertex)
-      {
-        dense = l;
-        break;
-      }
-    }
-    levelIndex = std::max(levelIndex, dense);
+    return std::min(this->LevelOfDetail, levels - 1);
   }
+  const double rate = ren->GetRenderWindow()->GetDesiredUpdateRate();
+  const double budget = rate > 0.0 ? 1.0 / rate : VTK_DOUBLE_MAX;
+  int fits = levels - 1;
+  for (int l = 0; l < levels; ++l)
+  {
+    if (in.SecondsPerRay * in.Levels[l].Surface->GetNumberOfPoints() <= budget)
+    {
+      fits = l;
+      break;
+    }
+  }
+  if (newView || in.FullPixelsPerVertex < 0.0)
+  {
+    const int* size = ren->GetSize();
+    in.FirstCast = CastVertices(in.Levels[0].Surface, in.View);
+    in.FullPixelsPerVertex =
+      ScreenPixelsPerVertex(in.Levels[0].Surface, in.FirstCast, in.View, size[0], size[1]);
+  }
+  int dense = 0;
+  const double full = static_cast<double>(in.Levels[0].Surface->GetNumberOfPoints());
+  for (int l = levels - 1; this->PixelsPerVertex > 0.0 && l > 0; --l)
+  {
+    const double points = static_cast<double>(in.Levels[l].Surface->GetNumberOfPoints());
+    if (in.FullPixelsPerVertex * full / points <= this->PixelsPerVertex)
+    {
+      dense = l;
+      break;
+    }
+  }
+  return std::max(fits, dense);
+}
+
+void vtkVolumeOnSurfaceMapper::StartView()
+{
+  vtkInternals& in = *this->Internals;
+  in.FullColors.assign(static_cast<std::size_t>(in.Surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
+  in.Known.assign(in.FullColors.size(), 0);
+  in.Key = in.NextKey;
+  in.HaveKey = true;
+  in.FullPixelsPerVertex = this->LevelOfDetail < 0 ? in.FullPixelsPerVertex : -1.0;
+  in.DrawnLevel = -1;
+}
+
+bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int levelIndex)
+{
+  vtkInternals& in = *this->Internals;
+  avos::VolumeRaySetup setup;
+  // The mapper's clipping planes clip the drawn surface (the delegate) and
+  // cut the rays: no volume from beyond a plane colours a vertex.
+  const std::string error = setup.Prepare(in.Volume, this->VolumeProperty,
+    this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
+    this->SampleDistance, this->Tolerance, this->ClippingPlanes);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
+    return false;
+  }
+  setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
+  setup.Engine = avos::ReadsEngineScalars(setup)
+    ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
+    : nullptr;
+  this->SelectDrawing(levelIndex);
+  this->TestVisibility(ren, act);
+  in.Current.Setup = &setup;
+  std::string failure;
+  this->CastLevelRays(levelIndex, failure);
+  in.Current.Setup = nullptr;
+  if (!failure.empty())
+  {
+    // No silent transparent vertices: nothing is drawn.
+    vtkErrorMacro(<< failure << ".");
+    return false;
+  }
+  this->StoreColours(levelIndex);
+  in.DrawnLevel = levelIndex;
+  return true;
+}
+
+void vtkVolumeOnSurfaceMapper::SelectDrawing(int levelIndex)
+{
+  // The surface drawn: the level's, or the full one whose other vertices
+  // take their colours from the level's (DrawFullSurface). A drawn vertex is
+  // known by its index there, a ray by its full id. (The levels need not
+  // include the full surface: their reductions are the user's.)
+  vtkInternals& in = *this->Internals;
+  vtkInternals::Pass& pass = in.Current;
   Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
-
-  if (newView)
+  pass.Spread = this->DrawFullSurface && level.Surface.Get() != in.Surface;
+  pass.Drawn = pass.Spread ? in.Surface : level.Surface.Get();
+  if (pass.Spread && level.FromLevel.Offsets.empty())
   {
-    in.FullColors.assign(static_cast<std::size_t>(surface->GetNumberOfPoints()), { 0, 0, 0, 0 });
-    in.Known.assign(in.FullColors.size(), 0);
-    in.Key = key;
-    in.HaveKey = true;
-    in.FullPixelsPerVertex = this->LevelOfDetail < 0 ? in.FullPixelsPerVertex : -1.0;
-    in.DrawnLevel = -1;
+    level.FromLevel.Build(pass.Drawn, level.FullIds);
   }
-
-  if (levelIndex != in.DrawnLevel)
+  std::unique_ptr<Drawing>& slot = in.Drawings[pass.Spread ? FullSurface : levelIndex];
+  if (!slot)
   {
-    avos::VolumeRaySetup setup;
-    // The mapper's clipping planes clip the drawn surface (the delegate) and
-    // cut the rays: no volume from beyond a plane colours a vertex.
-    const std::string error = setup.Prepare(volume, this->VolumeProperty,
-      this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
-      this->SampleDistance, this->Tolerance, this->ClippingPlanes);
-    if (!error.empty())
-    {
-      vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
-      in.HaveKey = false;
-      return;
-    }
-    setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
-    setup.Engine = avos::ReadsEngineScalars(setup)
-      ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
-      : nullptr;
-    // The surface drawn: the level's, or the full one whose other vertices
-    // take their colours from the level's (DrawFullSurface). A drawn vertex
-    // is known by its index there, a ray by its full id.
-    // (The levels need not include the full surface: their reductions are
-    // the user's.)
-    const bool spread = this->DrawFullSurface && level.Surface.Get() != surface;
-    const int drawnIndex = spread ? FullSurface : levelIndex;
-    vtkPolyData* drawn = spread ? surface : level.Surface.Get();
-    auto fullId = [&](vtkIdType d)
-    { return spread ? d : level.FullIds[static_cast<std::size_t>(d)]; };
-    if (spread && level.FromLevel.Offsets.empty())
-    {
-      level.FromLevel.Build(drawn, level.FullIds);
-    }
-    std::unique_ptr<Drawing>& slot = in.Drawings[drawnIndex];
-    if (!slot)
-    {
-      slot.reset(new Drawing(drawn));
-    }
-    Drawing& drawing = *slot;
-    in.Active = &drawing;
-    // (The first level's, when the screen density above computed them.)
-    const std::vector<unsigned char> cast = drawn == in.Levels[0].Surface && !firstCast.empty()
-      ? std::move(firstCast)
-      : CastVertices(drawn, view);
-    ShownPolygons(drawn, cast, drawing.ShownPolys);
-    drawing.Delegate->SetClippingPlanes(this->ClippingPlanes);
+    slot.reset(new Drawing(pass.Drawn));
+  }
+  in.Active = slot.get();
+  // (The first level's, when ChooseLevel computed them.)
+  pass.Cast = pass.Drawn == in.Levels[0].Surface && !in.FirstCast.empty()
+    ? std::move(in.FirstCast)
+    : CastVertices(pass.Drawn, in.View);
+  ShownPolygons(pass.Drawn, pass.Cast, in.Active->ShownPolys);
+  in.Active->Delegate->SetClippingPlanes(this->ClippingPlanes);
+}
 
-    // The depth pass: DEPTH always; AUTO when the rays it saved last time
-    // (at today's cost per ray) outweigh what it cost, and every 16th new
-    // view to measure again.
-    const double saving =
-      in.HiddenShare * static_cast<double>(this->NumberOfVisibleVertices) * in.SecondsPerRay;
-    const bool pass = this->VisibilityTest == DEPTH_VISIBILITY ||
-      (this->VisibilityTest == AUTOMATIC_VISIBILITY &&
-        (in.PassSeconds < saving || in.ViewsWithoutPass >= 16));
-    std::vector<unsigned char> needed;
-    this->LastDepthPass = 0;
-    if (pass)
+void vtkVolumeOnSurfaceMapper::TestVisibility(vtkRenderer* ren, vtkActor* act)
+{
+  // The depth pass: DEPTH always; AUTO when the rays it saved last time (at
+  // today's cost per ray) outweigh what it cost, and every 16th new view to
+  // measure again.
+  vtkInternals& in = *this->Internals;
+  vtkInternals::Pass& pass = in.Current;
+  const double saving =
+    in.HiddenShare * static_cast<double>(this->NumberOfVisibleVertices) * in.SecondsPerRay;
+  const bool depthPass = this->VisibilityTest == DEPTH_VISIBILITY ||
+    (this->VisibilityTest == AUTOMATIC_VISIBILITY &&
+      (in.PassSeconds < saving || in.ViewsWithoutPass >= 16));
+  pass.Needed.clear();
+  this->LastDepthPass = 0;
+  if (!depthPass)
+  {
+    ++in.ViewsWithoutPass;
+    return;
+  }
+  vtkNew<vtkTimerLog> passTimer;
+  passTimer->StartTimer();
+  std::vector<float> depth;
+  int area[4];
+  double spacing[3];
+  in.Volume->GetSpacing(spacing);
+  Drawing& drawing = *in.Active;
+  if (DepthWith(
+        ren, [&]() { drawing.Delegate->Render(ren, act); }, depth, area))
+  {
+    vtkMatrix4x4* eyeToClip =
+      ren->GetActiveCamera()->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+    pass.Needed = NeededVertices(pass.Drawn, in.View, pass.Cast, eyeToClip->GetData(), depth, area,
+      std::max({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
+    this->LastDepthPass = 1;
+  }
+  passTimer->StopTimer();
+  in.PassSeconds = passTimer->GetElapsedTime();
+  in.ViewsWithoutPass = 0;
+}
+
+void vtkVolumeOnSurfaceMapper::CastLevelRays(int levelIndex, std::string& failure)
+{
+  vtkInternals& in = *this->Internals;
+  vtkInternals::Pass& pass = in.Current;
+  const avos::VolumeRaySetup& setup = *pass.Setup;
+  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+  // The level's vertices that need a ray (full ids), and the counts.
+  vtkIdType visible = 0, reused = 0, hidden = 0;
+  std::vector<vtkIdType> wanted;
+  for (std::size_t v = 0; v < level.FullIds.size(); ++v)
+  {
+    const vtkIdType full = level.FullIds[v];
+    const vtkIdType d = pass.Spread ? full : static_cast<vtkIdType>(v);
+    if (!pass.Cast[static_cast<std::size_t>(d)])
     {
-      vtkNew<vtkTimerLog> passTimer;
-      passTimer->StartTimer();
-      std::vector<float> depth;
-      int area[4];
-      double spacing[3];
-      volume->GetSpacing(spacing);
-      if (DepthWith(
-            ren, [&]() { drawing.Delegate->Render(ren, act); }, depth, area))
-      {
-        vtkMatrix4x4* eyeToClip =
-          camera->GetProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
-        needed = NeededVertices(drawn, view, cast, eyeToClip->GetData(), depth, area,
-          std::max({ std::abs(spacing[0]), std::abs(spacing[1]), std::abs(spacing[2]) }));
-        this->LastDepthPass = 1;
-      }
-      passTimer->StopTimer();
-      in.PassSeconds = passTimer->GetElapsedTime();
-      in.ViewsWithoutPass = 0;
+      continue;
+    }
+    ++visible;
+    if (!pass.Wants(d))
+    {
+      ++hidden;
+    }
+    else if (in.Known[static_cast<std::size_t>(full)])
+    {
+      ++reused;
     }
     else
     {
-      ++in.ViewsWithoutPass;
+      wanted.push_back(full);
     }
-    // A drawn vertex wants a colour when it is cast and not hidden.
-    auto wants = [&](vtkIdType d)
-    {
-      const std::size_t i = static_cast<std::size_t>(d);
-      return cast[i] && (needed.empty() || needed[i]);
-    };
-
-    // The level's vertices that need a ray (full ids), and the counts.
-    vtkIdType visible = 0, reused = 0, hidden = 0;
-    std::vector<vtkIdType> wanted;
-    for (std::size_t v = 0; v < level.FullIds.size(); ++v)
-    {
-      const vtkIdType full = level.FullIds[v];
-      const vtkIdType d = spread ? full : static_cast<vtkIdType>(v);
-      if (!cast[static_cast<std::size_t>(d)])
-      {
-        continue;
-      }
-      ++visible;
-      if (!wants(d))
-      {
-        ++hidden;
-      }
-      else if (in.Known[static_cast<std::size_t>(full)])
-      {
-        ++reused;
-      }
-      else
-      {
-        wanted.push_back(full);
-      }
-    }
-    std::string failure;
-    vtkIdType rays =
-      CastRays(surface, view, key.Parallel, wanted, setup, in.FullColors, in.Known, failure);
-    // The full surface's other vertices: the colours of the level's around
-    // them (Spread), or their own ray where none of those was cast (beside
-    // a silhouette, the level's vertices there may all face away).
-    std::vector<Colour> spreadColors;
-    if (spread && failure.empty())
-    {
-      spreadColors.assign(static_cast<std::size_t>(drawn->GetNumberOfPoints()), { 0, 0, 0, 0 });
-      std::vector<unsigned char> orphan(spreadColors.size(), 0);
-      vtkSMPTools::For(0, drawn->GetNumberOfPoints(),
-        [&](vtkIdType begin, vtkIdType end)
-        {
-          for (vtkIdType d = begin; d < end; ++d)
-          {
-            const std::size_t i = static_cast<std::size_t>(d);
-            orphan[i] = wants(d) && !in.Known[i] &&
-                !level.FromLevel.Mean(d, in.FullColors, in.Known, spreadColors[i])
-              ? 1
-              : 0;
-          }
-        });
-      std::vector<vtkIdType> orphans;
-      for (std::size_t i = 0; i < orphan.size(); ++i)
-      {
-        if (orphan[i])
-        {
-          orphans.push_back(static_cast<vtkIdType>(i));
-        }
-      }
-      rays +=
-        CastRays(surface, view, key.Parallel, orphans, setup, in.FullColors, in.Known, failure);
-    }
-    if (!failure.empty())
-    {
-      // No silent transparent vertices: nothing is drawn.
-      vtkErrorMacro(<< failure << ".");
-      in.HaveKey = false;
-      return;
-    }
-    this->NumberOfRaysCast = rays;
-    this->NumberOfVisibleVertices = visible;
-    this->NumberOfReusedColors = reused;
-    this->NumberOfHiddenVertices = hidden;
-    if (this->LastDepthPass && visible > 0)
-    {
-      in.HiddenShare = static_cast<double>(hidden) / static_cast<double>(visible);
-    }
-    unsigned char* rgba = drawing.Colors->GetPointer(0);
-    unsigned char* rgb = drawing.Display->GetPointer(0);
-    for (vtkIdType d = 0; d < drawn->GetNumberOfPoints(); ++d)
-    {
-      const std::size_t full = static_cast<std::size_t>(fullId(d));
-      const auto& c = in.Known[full] || spreadColors.empty()
-        ? in.FullColors[full]
-        : spreadColors[static_cast<std::size_t>(d)];
-      std::copy(c.begin(), c.end(), rgba + 4 * d);
-      std::copy(c.begin(), c.begin() + 3, rgb + 3 * d);
-    }
-    drawing.Colors->Modified();
-    drawing.Display->Modified();
-    in.DrawnLevel = levelIndex;
   }
-  this->LastLevelOfDetail = levelIndex;
-  timer->StopTimer();
-  this->ColoringTime = timer->GetElapsedTime();
-  if (this->NumberOfRaysCast > 0)
+  const bool parallel = in.Key.Parallel;
+  vtkIdType rays =
+    CastRays(in.Surface, in.View, parallel, wanted, setup, in.FullColors, in.Known, failure);
+  // The full surface's other vertices: the colours of the level's around
+  // them (Spread), or their own ray where none of those was cast (beside a
+  // silhouette, the level's vertices there may all face away).
+  pass.SpreadColors.clear();
+  if (pass.Spread && failure.empty())
   {
-    in.SecondsPerRay =
-      std::max(0.0, this->ColoringTime - (this->LastDepthPass ? in.PassSeconds : 0.0)) /
-      static_cast<double>(this->NumberOfRaysCast);
+    const std::vector<vtkIdType> orphans = this->SpreadColours(levelIndex);
+    rays +=
+      CastRays(in.Surface, in.View, parallel, orphans, setup, in.FullColors, in.Known, failure);
   }
-
-  if (in.Active)
+  this->NumberOfRaysCast = rays;
+  this->NumberOfVisibleVertices = visible;
+  this->NumberOfReusedColors = reused;
+  this->NumberOfHiddenVertices = hidden;
+  if (this->LastDepthPass && visible > 0)
   {
-    in.Active->Delegate->SetClippingPlanes(this->ClippingPlanes);
-    in.Active->Delegate->Render(ren, act);
+    in.HiddenShare = static_cast<double>(hidden) / static_cast<double>(visible);
   }
+}
+
+std::vector<vtkIdType> vtkVolumeOnSurfaceMapper::SpreadColours(int levelIndex)
+{
+  vtkInternals& in = *this->Internals;
+  vtkInternals::Pass& pass = in.Current;
+  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+  pass.SpreadColors.assign(
+    static_cast<std::size_t>(pass.Drawn->GetNumberOfPoints()), { 0, 0, 0, 0 });
+  std::vector<unsigned char> orphan(pass.SpreadColors.size(), 0);
+  vtkSMPTools::For(0, pass.Drawn->GetNumberOfPoints(),
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      for (vtkIdType d = begin; d < end; ++d)
+      {
+        const std::size_t i = static_cast<std::size_t>(d);
+        orphan[i] = pass.Wants(d) && !in.Known[i] &&
+            !level.FromLevel.Mean(d, in.FullColors, in.Known, pass.SpreadColors[i])
+          ? 1
+          : 0;
+      }
+    });
+  std::vector<vtkIdType> orphans;
+  for (std::size_t i = 0; i < orphan.size(); ++i)
+  {
+    if (orphan[i])
+    {
+      orphans.push_back(static_cast<vtkIdType>(i));
+    }
+  }
+  return orphans;
+}
+
+void vtkVolumeOnSurfaceMapper::StoreColours(int levelIndex)
+{
+  vtkInternals& in = *this->Internals;
+  const vtkInternals::Pass& pass = in.Current;
+  const Level& level = in.Levels[static_cast<std::size_t>(levelIndex)];
+  Drawing& drawing = *in.Active;
+  unsigned char* rgba = drawing.Colors->GetPointer(0);
+  unsigned char* rgb = drawing.Display->GetPointer(0);
+  for (vtkIdType d = 0; d < pass.Drawn->GetNumberOfPoints(); ++d)
+  {
+    const std::size_t full =
+      static_cast<std::size_t>(pass.Spread ? d : level.FullIds[static_cast<std::size_t>(d)]);
+    const auto& c = in.Known[full] || pass.SpreadColors.empty()
+      ? in.FullColors[full]
+      : pass.SpreadColors[static_cast<std::size_t>(d)];
+    std::copy(c.begin(), c.end(), rgba + 4 * d);
+    std::copy(c.begin(), c.begin() + 3, rgb + 3 * d);
+  }
+  drawing.Colors->Modified();
+  drawing.Display->Modified();
 }
 
 void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)

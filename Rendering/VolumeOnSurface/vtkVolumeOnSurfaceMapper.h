@@ -52,6 +52,8 @@
 #include "vtkPolyDataMapper.h"
 
 #include <memory> // For std::unique_ptr
+#include <string> // For the stages' failure messages
+#include <vector> // For SpreadColours
 
 class vtkImageData;
 class vtkPolyData;
@@ -238,6 +240,29 @@ protected:
   ~vtkVolumeOnSurfaceMapper() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  ///@{
+  /**
+   * The stages of Render, in the order data flows: the inputs checked, the
+   * levels of detail (once per surface), the view and its key (true: a new
+   * view, whose colours start again in StartView), the level drawn, and,
+   * when that level has no colours for this view yet, ColourLevel: the ray
+   * set-up, the drawing (SelectDrawing), the depth pass (TestVisibility),
+   * the rays of the vertices that want one (CastLevelRays, SpreadColours for
+   * the full surface's others) and the colours stored (StoreColours).
+   */
+  bool ValidateInputs();
+  bool UpdateLevels(vtkRenderer* ren);
+  bool UpdateView(vtkRenderer* ren);
+  int ChooseLevel(vtkRenderer* ren, bool newView);
+  void StartView();
+  bool ColourLevel(vtkRenderer* ren, vtkActor* act, int level);
+  void SelectDrawing(int level);
+  void TestVisibility(vtkRenderer* ren, vtkActor* act);
+  void CastLevelRays(int level, std::string& failure);
+  std::vector<vtkIdType> SpreadColours(int level);
+  void StoreColours(int level);
+  ///@}
 
   vtkVolumeProperty* VolumeProperty = nullptr;
   int IntegrationMethod = LEVOY;
