@@ -26,6 +26,7 @@
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
+#include "avosVolumeInput.h"
 
 #include "avos/engine/Frame.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
@@ -409,40 +410,13 @@ vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
     input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
-  int* dims = internals.Dimensions;
-  input->GetDimensions(dims);
-  if (!scalars)
+  const std::string error = avos::ValidateVolumeInput(input, scalars, cellFlag != 0);
+  if (!error.empty())
   {
-    vtkErrorMacro(<< "The input has no scalars to render.");
+    vtkErrorMacro(<< "Cannot render: " << error << ".");
     return nullptr;
   }
-  if (cellFlag)
-  {
-    vtkErrorMacro(<< "Cell scalars are not supported; use point scalars.");
-    return nullptr;
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    vtkErrorMacro(<< "Only single-component scalars are supported, not "
-                  << scalars->GetNumberOfComponents() << " components.");
-    return nullptr;
-  }
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
-    scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
-  {
-    vtkErrorMacro(<< "The input must have at least 2 points along each axis and one scalar per "
-                     "point; its dimensions are "
-                  << dims[0] << " x " << dims[1] << " x " << dims[2] << ".");
-    return nullptr;
-  }
-  const double* spacing = input->GetSpacing();
-  if (spacing[0] == 0.0 || spacing[1] == 0.0 || spacing[2] == 0.0 ||
-    !std::isfinite(spacing[0] * spacing[1] * spacing[2]))
-  {
-    vtkErrorMacro(<< "The input's spacing must be non-zero and finite, not (" << spacing[0] << ", "
-                  << spacing[1] << ", " << spacing[2] << ").");
-    return nullptr;
-  }
+  input->GetDimensions(internals.Dimensions);
   internals.Scalars = scalars;
   return input;
 }

@@ -4,6 +4,7 @@
 #include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
+#include "avosVolumeInput.h"
 #include "vtkAdaptiveVolumeMapper.h"
 
 #include "vtkCamera.h"
@@ -124,18 +125,10 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
     input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
-  if (!scalars || scalars->GetNumberOfTuples() == 0)
+  const std::string invalid = avos::ValidateVolumeInput(input, scalars, cellFlag != 0);
+  if (!invalid.empty())
   {
-    return "the input has no scalars";
-  }
-  if (cellFlag)
-  {
-    return "cell scalars are not supported: the integrals are those of the trilinear "
-           "interpolant of point scalars";
-  }
-  if (scalars->GetNumberOfComponents() != 1)
-  {
-    return "only one-component scalars are supported";
+    return invalid;
   }
   float scale, bias;
   if (!TexelToScalar(scalars->GetDataType(), scale, bias))
@@ -143,11 +136,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
     return std::string("scalars of type ") + scalars->GetDataTypeAsString() +
       " are not supported (unsigned char, unsigned short, float, double): convert them with "
       "vtkImageCast";
-  }
-  const int* dims = input->GetDimensions();
-  if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2)
-  {
-    return "the image must have at least two points on every axis";
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
   {
@@ -201,27 +189,45 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
 //------------------------------------------------------------------------------
 void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
 {
+  vtkNew<vtkMatrix4x4> gridToWorld;
+  double voxel = 0.0;
+  const std::string error = this->PrepareFrame(ren, vol, gridToWorld, voxel);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error << "; nothing is drawn.");
+    return;
+  }
+  auto* shaderProperty = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
+  this->AddShaderReplacements(shaderProperty);
+  vtkUniforms* uniforms = shaderProperty->GetFragmentCustomUniforms();
+  this->SetVolumeUniforms(uniforms);
+  this->SetPieceUniforms(uniforms);
+  this->SetMethodUniforms(uniforms);
+  this->UpdateBlocks(ren, shaderProperty);
+  this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
+  this->Superclass::GPURender(ren, vol);
+  this->Internals->Blocks->Deactivate();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
+  vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel)
+{
   vtkVolumeProperty* property = vol->GetProperty();
   std::string error = this->CheckRenderable(ren, property);
-  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  double voxel = 0.0;
-  vtkNew<vtkMatrix4x4> gridToWorld;
-  if (error.empty())
+  if (!error.empty())
   {
-    voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
-    if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
-    {
-      error = "the image's spacing or the volume's matrix is degenerate";
-    }
+    return error;
+  }
+  vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
+  if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
+  {
+    return "the image's spacing or the volume's matrix is degenerate";
   }
   vtkInternals& internals = *this->Internals;
-  vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
-    ren->GetTiledAspectRatio(), -1, 1);
-  vtkNew<vtkMatrix4x4> ndcToWorld;
-  vtkMatrix4x4::Invert(projection, ndcToWorld);
-  if (error.empty() &&
-    (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
-      voxel != internals.TFVoxel))
+  if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
+    voxel != internals.TFVoxel)
   {
     error = avos::TransferFunctionFromProperty(
       property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
@@ -229,38 +235,39 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
     internals.TFTime.Modified();
-  }
-  const auto& pieces = internals.TF.GetPieces();
-  if (error.empty())
-  {
-    GLint vectors = 0;
-    glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
-    const int capacity = std::max(0, (vectors - ReservedUniformVectors) / 3);
-    if (static_cast<int>(pieces.size()) > capacity)
+    if (!error.empty())
     {
-      std::ostringstream message;
-      message << "the transfer function has " << pieces.size()
-              << " pieces; this GPU's fragment uniforms hold at most " << capacity;
-      error = message.str();
+      return error;
     }
   }
-  if (error.empty())
+  const std::size_t pieces = internals.TF.GetPieces().size();
+  GLint vectors = 0;
+  glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
+  const int capacity = std::max(0, (vectors - ReservedUniformVectors) / 3);
+  if (static_cast<int>(pieces) > capacity)
   {
-    // The shader's rays assume what VTK's cameras give: a homogeneous w of
-    // the inverse projection that depends on the depth alone.
-    const double* w = ndcToWorld->GetData() + 12;
-    if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
-    {
-      error = "the camera's projection is not a perspective or parallel one";
-    }
+    std::ostringstream message;
+    message << "the transfer function has " << pieces
+            << " pieces; this GPU's fragment uniforms hold at most " << capacity;
+    return message.str();
   }
-  if (!error.empty())
+  // The shader's rays assume what VTK's cameras give: a homogeneous w of the
+  // inverse projection that depends on the depth alone.
+  vtkNew<vtkMatrix4x4> ndcToWorld;
+  vtkMatrix4x4::Invert(ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+                         ren->GetTiledAspectRatio(), -1, 1),
+    ndcToWorld);
+  const double* w = ndcToWorld->GetData() + 12;
+  if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
   {
-    vtkErrorMacro(<< error << "; nothing is drawn.");
-    return;
+    return "the camera's projection is not a perspective or parallel one";
   }
+  return std::string();
+}
 
-  auto* shaderProperty = vtkOpenGLShaderProperty::SafeDownCast(vol->GetShaderProperty());
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::AddShaderReplacements(vtkOpenGLShaderProperty* shaderProperty)
+{
   // Replacements of a tag are keyed by it: adding them again changes nothing.
   const std::string integrator =
     std::string("//VTK::Shading::Dec\n") + avos::AdaptiveIntegratorGLSL;
@@ -278,16 +285,25 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::RenderToImage::Exit", true,
     "//VTK::RenderToImage::Exit\n  avos_writeQuantity();\n", false);
+}
 
-  vtkUniforms* uniforms = shaderProperty->GetFragmentCustomUniforms();
+//------------------------------------------------------------------------------
+vtkDataArray* vtkOpenGLAdaptiveVolumeMapper::GetRenderedScalars()
+{
   int cellFlag = 0;
-  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
-    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  return vtkAbstractMapper::GetScalars(this->GetInput(), this->ScalarMode, this->ArrayAccessMode,
+    this->ArrayId, this->ArrayName, cellFlag);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
+{
+  vtkDataArray* scalars = this->GetRenderedScalars();
   float texelScale = 1.0f, texelBias = 0.0f;
   TexelToScalar(scalars->GetDataType(), texelScale, texelBias);
   uniforms->SetUniformf("avos_texelScale", texelScale);
   uniforms->SetUniformf("avos_texelBias", texelBias);
-  const int* dims = input->GetDimensions();
+  const int* dims = vtkImageData::SafeDownCast(this->GetInput())->GetDimensions();
   const float dimensions[3] = { float(dims[0]), float(dims[1]), float(dims[2]) };
   uniforms->SetUniform3f("avos_dimensions", dimensions);
   double range[2];
@@ -295,9 +311,16 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   // Trilinear values never leave the data's range: knots outside it are never crossed.
   const float fieldRange[2] = { float(range[0]), float(range[1]) };
   uniforms->SetUniform2f("avos_fieldRange", fieldRange);
+}
 
-  // The transfer function's pieces. A new count changes the arrays'
-  // declared sizes: removing them first makes VTK rebuild the shader.
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
+{
+  // A new count changes the arrays' declared sizes: removing them first
+  // makes VTK rebuild the shader.
+  vtkInternals& internals = *this->Internals;
+  const auto& tf = internals.TF;
+  const auto& pieces = tf.GetPieces();
   const int count = static_cast<int>(pieces.size());
   if (count != internals.PieceCount)
   {
@@ -307,7 +330,6 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     internals.PieceCount = count;
   }
   std::vector<float> a(4 * count), c(4 * count), s(4 * count);
-  const auto& tf = internals.TF;
   // The core's jump counts, which the shader's avos_hasJumpIn reads as HasJumpIn does.
   const std::vector<std::size_t>& jumpsBefore = tf.GetJumpsBefore();
   for (int i = 0; i < count; ++i)
@@ -338,8 +360,11 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     "avos_alphaModel", tf.GetOpacityModel() == avos::numerics::OpacityModel::Alpha ? 1 : 0);
   uniforms->SetUniformf("avos_unitDistance", float(tf.GetUnitDistance()));
   uniforms->SetUniformf("avos_maximumColour", float(tf.GetMaximumColor()));
+}
 
-  // The method.
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
+{
   uniforms->SetUniformi("avos_method", this->IntegrationMethod);
   uniforms->SetUniformf("avos_tolerance", float(this->Tolerance));
   const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
@@ -348,25 +373,34 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   uniforms->SetUniformi("avos_earlyTermination", this->EarlyTermination ? 1 : 0);
   uniforms->SetUniformi("avos_quantity", this->RenderToImage ? this->ImageQuantity : 0);
   uniforms->SetUniformi("avos_two", 2); // the shader's loop-limit canary (avos_castRay)
-
-  // Empty-space skipping (see avos_nextSegment): the blocks' visibility for
-  // this transfer function, uploaded when it changes.
+  // Empty-space skipping (see avos_nextSegment).
   uniforms->SetUniformi("avos_skipping", this->EmptySpaceSkipping ? 1 : 0);
   uniforms->SetUniformf(
     "avos_blockSize", static_cast<float>(avos::numerics::EmptySpaceMap<double>::BlockSize));
   // Against rounding of the block crossings: 1e-6 voxel in double, 1e-3 in
   // float (t of a few hundred voxels carries 3e-5).
   uniforms->SetUniformf("avos_segmentPad", this->DoublePrecisionRays ? 1e-6f : 1e-3f);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::UpdateBlocks(
+  vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty)
+{
+  // The blocks' visibility for this transfer function, uploaded when the
+  // ranges or the transfer function change.
+  vtkInternals& internals = *this->Internals;
   vtkTextureObject* blocks = internals.Blocks;
   blocks->SetContext(vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow()));
   if (this->EmptySpaceSkipping)
   {
     auto& map = internals.Ranges.GetMap();
-    internals.Ranges.Update(scalars, dims); // the types TexelToScalar accepts all work
+    // The types TexelToScalar accepts all work.
+    internals.Ranges.Update(
+      this->GetRenderedScalars(), vtkImageData::SafeDownCast(this->GetInput())->GetDimensions());
     if (!internals.BlocksHoldMap || internals.BlocksRangesTime != internals.Ranges.GetTime() ||
       internals.BlocksTime < internals.TFTime || blocks->GetHandle() == 0)
     {
-      map.Classify(tf);
+      map.Classify(internals.TF);
       std::vector<unsigned char> visible;
       visible.reserve(map.GetNumberOfBlocks());
       for (int z = 0; z < map.GetNumberOfBlocks(2); ++z)
@@ -396,10 +430,20 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
     internals.BlocksHoldMap = false;
   }
   blocks->Activate();
-  uniforms->SetUniformi("avos_blocks", blocks->GetTextureUnit());
+  shaderProperty->GetFragmentCustomUniforms()->SetUniformi("avos_blocks", blocks->GetTextureUnit());
   shaderProperty->AddFragmentShaderReplacement(
     "uniform int avos_blocks;", false, "uniform sampler3D avos_blocks;", false);
+}
 
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetRayUniforms(
+  vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel)
+{
+  vtkMatrix4x4* projection = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+    ren->GetTiledAspectRatio(), -1, 1);
+  vtkNew<vtkMatrix4x4> ndcToWorld;
+  vtkMatrix4x4::Invert(projection, ndcToWorld);
+  const int* dims = vtkImageData::SafeDownCast(this->GetInput())->GetDimensions();
   // The rays (see avos_setUpRay): in double, the near- and far-plane points'
   // coefficients in NDC x, y, then the point on the plane through the
   // volume's centre and the near-to-far vector; grid vectors -> voxel units.
@@ -461,9 +505,6 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   }
   uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel[0]);
   uniforms->SetUniformMatrix3x3("avos_gridToVoxelLo", gridToVoxel[1]);
-
-  this->Superclass::GPURender(ren, vol);
-  blocks->Deactivate();
 }
 
 //------------------------------------------------------------------------------

@@ -65,6 +65,11 @@
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
+class vtkDataArray;
+class vtkMatrix4x4;
+class vtkOpenGLShaderProperty;
+class vtkUniforms;
+
 class AVOSRENDERINGOPENGLADAPTIVEVOLUME_EXPORT vtkOpenGLAdaptiveVolumeMapper
   : public vtkOpenGLGPUVolumeRayCastMapper
 {
@@ -206,6 +211,32 @@ protected:
   ~vtkOpenGLAdaptiveVolumeMapper() override;
 
   void GPURender(vtkRenderer* ren, vtkVolume* vol) override;
+
+  ///@{
+  /**
+   * The stages of GPURender, in the order data flows: the frame checked and
+   * prepared (CheckRenderable, the grid-to-world matrix and the voxel size,
+   * the transfer function rebuilt when the property changed; an error
+   * message or empty), the shader's replacements, the uniforms of the
+   * volume, of the transfer function's pieces and of the method, the
+   * empty-space blocks' texture (uploaded when the ranges or the transfer
+   * function change) and the rays' uniforms for this camera.
+   */
+  std::string PrepareFrame(
+    vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
+  void AddShaderReplacements(vtkOpenGLShaderProperty* shaderProperty);
+  void SetVolumeUniforms(vtkUniforms* uniforms);
+  void SetPieceUniforms(vtkUniforms* uniforms);
+  void SetMethodUniforms(vtkUniforms* uniforms);
+  void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
+  void SetRayUniforms(
+    vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);
+  ///@}
+
+  /**
+   * The scalars rendered (point scalars, as CheckRenderable requires).
+   */
+  vtkDataArray* GetRenderedScalars();
 
   int IntegrationMethod = ADAPTIVE_COUPLED;
   int OpacityModel = VTK_OPACITY;

@@ -19,6 +19,7 @@
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
+#include "avosVolumeInput.h"
 
 #include "avos/engine/EmptySpace.h"
 #include "avos/engine/Frame.h"
@@ -82,15 +83,12 @@ struct VolumeRaySetup
     vtkPlaneCollection* planes = nullptr)
   {
     this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
-    if (!this->Scalars || this->Scalars->GetNumberOfComponents() != 1)
+    const std::string unusable = ValidateVolumeInput(volume, this->Scalars, false);
+    if (!unusable.empty())
     {
-      return "the volume needs single-component point scalars";
+      return unusable;
     }
     volume->GetDimensions(this->Dimensions);
-    if (this->Dimensions[0] < 2 || this->Dimensions[1] < 2 || this->Dimensions[2] < 2)
-    {
-      return "the volume needs at least 2 points along each axis";
-    }
     // The ray caster's step range bounds the work of one ray.
     const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
     const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();

@@ -54,18 +54,13 @@ struct Spread
   std::vector<vtkIdType> Sources; // full ids of the level's vertices
   std::vector<double> Weights;
 
-  void Build(vtkPolyData* full, const std::vector<vtkIdType>& levelIds)
+  // The polygons' edges, both ways, as adjacency lists (CSR): vertex v's
+  // neighbours are neighbours[first[v] .. first[v + 1]).
+  static void Adjacency(
+    vtkPolyData* full, std::vector<vtkIdType>& first, std::vector<vtkIdType>& neighbours)
   {
     const vtkIdType n = full->GetNumberOfPoints();
-    std::vector<glm::dvec3> points(static_cast<std::size_t>(n));
-    for (vtkIdType v = 0; v < n; ++v)
-    {
-      double p[3];
-      full->GetPoint(v, p);
-      points[static_cast<std::size_t>(v)] = glm::dvec3(p[0], p[1], p[2]);
-    }
-    // Edges of the polygons, both ways, as adjacency lists (CSR).
-    std::vector<vtkIdType> first(static_cast<std::size_t>(n) + 1, 0);
+    first.assign(static_cast<std::size_t>(n) + 1, 0);
     auto edges = [&](auto&& visit)
     {
       full->GetPolys()->Visit(
@@ -93,17 +88,24 @@ struct Spread
       first[v + 1] += first[v];
     }
     std::vector<vtkIdType> fill(first.begin(), first.end() - 1);
-    std::vector<vtkIdType> neighbours(static_cast<std::size_t>(first.back()));
+    neighbours.assign(static_cast<std::size_t>(first.back()), 0);
     edges(
       [&](vtkIdType a, vtkIdType b)
       {
         neighbours[static_cast<std::size_t>(fill[static_cast<std::size_t>(a)]++)] = b;
         neighbours[static_cast<std::size_t>(fill[static_cast<std::size_t>(b)]++)] = a;
       });
-    // The nearest level vertex of every vertex along the edges. Each vertex
-    // settles once (a distance only ever decreases), so the loop ends.
-    std::vector<double> distance(static_cast<std::size_t>(n), VTK_DOUBLE_MAX);
-    std::vector<vtkIdType> owner(static_cast<std::size_t>(n), -1);
+  }
+
+  // The nearest level vertex (owner) of every vertex along the edges, and
+  // its distance. Each vertex settles once (a distance only ever
+  // decreases), so the loop ends.
+  static void Nearest(const std::vector<glm::dvec3>& points, const std::vector<vtkIdType>& first,
+    const std::vector<vtkIdType>& neighbours, const std::vector<vtkIdType>& levelIds,
+    std::vector<double>& distance, std::vector<vtkIdType>& owner)
+  {
+    distance.assign(points.size(), VTK_DOUBLE_MAX);
+    owner.assign(points.size(), -1);
     using Entry = std::pair<double, vtkIdType>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     for (vtkIdType id : levelIds)
@@ -133,6 +135,23 @@ struct Spread
         }
       }
     }
+  }
+
+  void Build(vtkPolyData* full, const std::vector<vtkIdType>& levelIds)
+  {
+    const vtkIdType n = full->GetNumberOfPoints();
+    std::vector<glm::dvec3> points(static_cast<std::size_t>(n));
+    for (vtkIdType v = 0; v < n; ++v)
+    {
+      double p[3];
+      full->GetPoint(v, p);
+      points[static_cast<std::size_t>(v)] = glm::dvec3(p[0], p[1], p[2]);
+    }
+    std::vector<vtkIdType> first, neighbours;
+    Adjacency(full, first, neighbours);
+    std::vector<double> distance;
+    std::vector<vtkIdType> owner;
+    Nearest(points, first, neighbours, levelIds, distance, owner);
     // Each vertex: its own colour on the level, else the owners of it and
     // of its neighbours (none in a part of the surface without a level
     // vertex: such a vertex gets its own ray).
