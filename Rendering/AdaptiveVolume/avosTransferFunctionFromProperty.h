@@ -19,14 +19,21 @@ namespace avos
  * Fills `tf` (replacing what it held) and finalizes it. `extinction`: the
  * opacity function holds tau per voxel unit (the paper's model); otherwise it
  * is VTK's opacity per ScalarOpacityUnitDistance. `voxel`: the world length
- * of one voxel unit. The knots are kept; where VTK does not interpolate
- * linearly in RGB (midpoint or sharpness moved, a non-RGB colour space), each
- * interval is resampled with 16 sub-knots. Returns an empty string, or why
- * the property cannot be used (empty functions, invalid values).
+ * of one voxel unit. The knots are kept, and VTK's function between them is
+ * taken exactly where it is piecewise linear: RGB space (or a gray or
+ * opacity function) with a sharpness below 0.01 (linear, or a kink at a
+ * moved midpoint: one more knot) or above 0.99 (a step at the midpoint: a
+ * jump). Colours and opacities within 1e-12 of [0, 1] (the rounding of
+ * VTK's colour-space conversions) are clamped onto it. Anywhere else (a
+ * Hermite curve, HSV, Lab or Diverging space) VTK's function is resampled
+ * with 16 sub-knots per interval, an approximation without a proven bound:
+ * `approximatedIntervals` (when given) gets the number of such intervals.
+ * Returns an empty string, or why the property cannot be used (empty
+ * functions, invalid values).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel,
-  avos::numerics::TransferFunction<double>& tf);
+  avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr);
 
 /**
  * Empty, or a sentence (no final stop) naming the property's settings that the ray

@@ -524,13 +524,22 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime())
   {
-    const std::string error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF);
+    int approximated = 0;
+    const std::string error = avos::TransferFunctionFromProperty(property,
+      this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF, &approximated);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       internals.PropertyTime = 0;
       return false;
+    }
+    if (approximated > 0)
+    {
+      vtkWarningMacro(<< approximated
+                      << " interval(s) of the transfer function (a sharpness between 0.01 and "
+                         "0.99, or HSV, Lab or Diverging colour space) are approximated by 16 "
+                         "linear pieces each, without a proven bound: the tolerance is not "
+                         "certified there.");
     }
     internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();
