@@ -1,7 +1,11 @@
-// The ray both Volume-on-Surface classes cast: from a surface vertex along a
-// direction out of the volume, integrated with the numerical core from the
-// far end back to the vertex, which is front to back for an eye looking along
-// the opposite direction. Private to the module.
+// The ray both Volume-on-Surface classes cast from a surface vertex. As the
+// paper defines it (VolumeSide::Behind), it starts at the vertex and runs
+// along the observation line, away from the observer, through the volume
+// behind the surface to the volume's far boundary: integrated front to back
+// from the vertex on, it is what a ray cast shows through that point once
+// the surface has replaced the (empty) space in front of it. The other side
+// (VolumeSide::InFront) integrates the volume between the vertex and the eye
+// instead, from the eye's end back to the vertex. Private to the module.
 #ifndef avosVolumeRay_h
 #define avosVolumeRay_h
 
@@ -50,6 +54,13 @@ enum class RayIntegration
   Piecewise  // piecewise adaptive (PiecewiseIntegrator.h), to Tolerance
 };
 
+// Which volume a vertex's ray integrates (the classes' VolumeSide values).
+enum class VolumeSide
+{
+  Behind = 0, // from the vertex away from the observer (the paper's)
+  InFront     // between the vertex and the observer
+};
+
 // What every ray of one execution shares: the volume's grid, the transfer
 // function, the integration method.
 struct VolumeRaySetup
@@ -66,6 +77,7 @@ struct VolumeRaySetup
   const avos::engine::Volume* Engine = nullptr;
   avos::engine::TransferTable Table;
   RayIntegration Method = RayIntegration::Levoy;
+  VolumeSide Side = VolumeSide::Behind;
   double SampleDistance = 0.5;
   avos::numerics::AdaptiveSettings<double> Settings;
   vtkDataArray* Scalars = nullptr;
@@ -189,9 +201,10 @@ public:
   {
   }
 
-  // RGBA of the volume between the vertex and the volume's boundary along
-  // `direction` (a unit world vector), at most `maximumLength` world units
-  // long (the eye's distance, for an eye inside the volume).
+  // RGBA of the volume from the vertex along `direction` (a unit world
+  // vector: away from the observer for VolumeSide::Behind, towards it for
+  // InFront) to the volume's boundary, at most `maximumLength` world units
+  // long (InFront: the eye's distance, for an eye inside the volume).
   // A non-empty Error (an overflow: scalars or extinctions beyond double's
   // range along the ray) comes with a zero RGBA; the classes refuse the
   // frame or the previsualization then (RayFailures).
@@ -199,20 +212,20 @@ public:
     double maximumLength = std::numeric_limits<double>::infinity()) const
   {
     avos::numerics::RayResult<double> result; // transparent where the ray meets nothing
-    glm::dvec3 origin, back;
+    glm::dvec3 origin, march;
     double D = 0.0;
-    if (this->Span(vertex, direction, maximumLength, origin, back, D))
+    if (this->Span(vertex, direction, maximumLength, origin, march, D))
     {
       thread_local std::vector<avos::numerics::Interval<double>> segments;
       if (this->Setup.Map)
       {
-        this->Setup.Map->Segments(origin, back, D, avos::engine::SegmentPad, segments);
+        this->Setup.Map->Segments(origin, march, D, avos::engine::SegmentPad, segments);
       }
       else
       {
         segments.assign(1, { 0.0, D });
       }
-      this->Integrate(origin, back, D, segments, result);
+      this->Integrate(origin, march, D, segments, result);
     }
     return result;
   }
@@ -224,23 +237,23 @@ public:
   void Cast(std::size_t count, const glm::dvec3* vertices, const glm::dvec3* directions,
     const double* maximumLengths, avos::numerics::RayResult<double>* results) const
   {
-    thread_local std::vector<double> origins, backs, lengths;
+    thread_local std::vector<double> origins, marches, lengths;
     thread_local std::vector<std::size_t> rays; // which result each spanned ray is
     thread_local std::vector<std::vector<avos::numerics::Interval<double>>> segments;
     origins.resize(3 * count);
-    backs.resize(3 * count);
+    marches.resize(3 * count);
     lengths.resize(count);
     rays.clear();
     for (std::size_t i = 0; i < count; ++i)
     {
       results[i] = avos::numerics::RayResult<double>();
-      glm::dvec3 origin, back;
+      glm::dvec3 origin, march;
       double D = 0.0;
-      if (this->Span(vertices[i], directions[i], maximumLengths[i], origin, back, D))
+      if (this->Span(vertices[i], directions[i], maximumLengths[i], origin, march, D))
       {
         const std::size_t k = rays.size();
         std::copy(&origin.x, &origin.x + 3, &origins[3 * k]);
-        std::copy(&back.x, &back.x + 3, &backs[3 * k]);
+        std::copy(&march.x, &march.x + 3, &marches[3 * k]);
         lengths[k] = D;
         rays.push_back(i);
       }
@@ -252,7 +265,7 @@ public:
     }
     if (this->Setup.Map)
     {
-      avos::engine::PacketSegments(*this->Setup.Map, spanned, origins.data(), backs.data(),
+      avos::engine::PacketSegments(*this->Setup.Map, spanned, origins.data(), marches.data(),
         lengths.data(), avos::engine::SegmentPad, segments.data());
     }
     for (std::size_t k = 0; k < spanned && !this->Setup.Map; ++k)
@@ -270,7 +283,7 @@ public:
       for (std::size_t k = 0; k < spanned; ++k)
       {
         std::copy_n(&origins[3 * k], 3, lanes[k].Origin);
-        std::copy_n(&backs[3 * k], 3, lanes[k].Direction);
+        std::copy_n(&marches[3 * k], 3, lanes[k].Direction);
         lanes[k].D = lengths[k];
         lanes[k].Segments = segments[k].data();
         lanes[k].Count = segments[k].size();
@@ -288,18 +301,20 @@ public:
     for (std::size_t k = 0; k < spanned; ++k)
     {
       const double* o = &origins[3 * k];
-      const double* b = &backs[3 * k];
+      const double* b = &marches[3 * k];
       this->Integrate(glm::dvec3(o[0], o[1], o[2]), glm::dvec3(b[0], b[1], b[2]), lengths[k],
         segments[k], results[rays[k]]);
     }
   }
 
 private:
-  // The ray of Cast() in grid coordinates, integrated from its far end
-  // `origin` along `back` (a voxel unit per unit of t) over [0, D]; false
+  // The ray of Cast() in grid coordinates, integrated from `origin` along
+  // `march` (a voxel unit per unit of t) over [0, D], front to back for the
+  // observer: Behind, from the vertex (or where the ray enters the grid)
+  // along `direction`; InFront, from the far end back to the vertex. False
   // when it misses the grid.
   bool Span(const glm::dvec3& vertex, const glm::dvec3& direction, double maximumLength,
-    glm::dvec3& origin, glm::dvec3& back, double& D) const
+    glm::dvec3& origin, glm::dvec3& march, double& D) const
   {
     const double* m = this->Setup.WorldToGrid;
     auto toGrid = [m](const glm::dvec3& p, double w)
@@ -316,8 +331,9 @@ private:
       return false;
     }
     D = t1 - t0;
-    origin = start + t1 * step;
-    back = -step;
+    const bool behind = this->Setup.Side == VolumeSide::Behind;
+    origin = start + (behind ? t0 : t1) * step;
+    march = behind ? step : -step;
     return true;
   }
 
@@ -326,14 +342,14 @@ private:
   // exactly, the adaptive rule keeps its bound (RayIntegrators.h). Cut
   // further by the clipping planes, exactly where the ray crosses them (the
   // methods integrate exactly the segments they get).
-  void Integrate(const glm::dvec3& origin, const glm::dvec3& back, double D,
+  void Integrate(const glm::dvec3& origin, const glm::dvec3& march, double D,
     std::vector<avos::numerics::Interval<double>>& segments,
     avos::numerics::RayResult<double>& result) const
   {
     thread_local std::vector<avos::numerics::Interval<double>> kept, clipped;
     if (!this->Setup.Clip.IsEmpty() && !segments.empty())
     {
-      this->Setup.Clip.Kept(origin, back, D, kept);
+      this->Setup.Clip.Kept(origin, march, D, kept);
       avos::numerics::ClipRegion<double>::Intersect(segments, kept, clipped);
       std::swap(segments, clipped);
     }
@@ -344,7 +360,7 @@ private:
     if (this->Setup.Method == RayIntegration::Adaptive)
     {
       const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>>
-        field{ this->Volume, origin, back };
+        field{ this->Volume, origin, march };
       result = avos::numerics::IntegrateAdaptive(
         field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings);
       return;
@@ -352,7 +368,7 @@ private:
     if (this->Setup.Method == RayIntegration::Piecewise)
     {
       // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
-      result = avos::numerics::IntegratePiecewise(this->Volume, origin, back, segments.data(),
+      result = avos::numerics::IntegratePiecewise(this->Volume, origin, march, segments.data(),
         segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, nullptr,
         this->Kernels);
       return;
@@ -361,14 +377,14 @@ private:
     {
       // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
       avos::engine::RayOutput out;
-      avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &back.x, D,
+      avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &march.x, D,
         this->Setup.SampleDistance, segments.data(), segments.size(), this->TerminationBound(),
         out);
       result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
       return;
     }
     const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>> field{
-      this->Volume, origin, back
+      this->Volume, origin, march
     };
     result = avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
       avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),

@@ -38,6 +38,7 @@ struct PrevisualizationKey
   std::vector<double> Angles;
   int RaysPerCone = 0;
   bool Flip = false;
+  int Side = 0;
   int Method = 0;
   double SampleDistance = 0.0;
   double Tolerance = 0.0;
@@ -54,11 +55,11 @@ struct PrevisualizationKey
   bool operator==(const PrevisualizationKey& o) const
   {
     return this->Angles == o.Angles && this->RaysPerCone == o.RaysPerCone && this->Flip == o.Flip &&
-      this->Method == o.Method && this->SampleDistance == o.SampleDistance &&
-      this->Tolerance == o.Tolerance && this->Extinction == o.Extinction &&
-      this->Skipping == o.Skipping && this->Surface == o.Surface &&
-      this->VolumeScalars == o.VolumeScalars && this->VolumeGrid == o.VolumeGrid &&
-      this->Property == o.Property;
+      this->Side == o.Side && this->Method == o.Method &&
+      this->SampleDistance == o.SampleDistance && this->Tolerance == o.Tolerance &&
+      this->Extinction == o.Extinction && this->Skipping == o.Skipping &&
+      this->Surface == o.Surface && this->VolumeScalars == o.VolumeScalars &&
+      this->VolumeGrid == o.VolumeGrid && this->Property == o.Property;
   }
 };
 
@@ -390,6 +391,7 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
   key.Angles = in.Angles;
   key.RaysPerCone = this->RaysPerCone;
   key.Flip = this->FlipNormals != 0;
+  key.Side = this->VolumeSide;
   key.Method = this->IntegrationMethod;
   key.SampleDistance = this->SampleDistance;
   key.Tolerance = this->Tolerance;
@@ -414,6 +416,7 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
     vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
+  setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
   setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
   setup.Engine = avos::ReadsEngineScalars(setup)
     ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
@@ -446,7 +449,11 @@ bool vtkVolumeOnSurfaceFilter::CastCones(vtkPolyData* withNormals)
   const std::size_t perVertex = in.Angles.size() * static_cast<std::size_t>(this->RaysPerCone);
   in.Directions.assign(static_cast<std::size_t>(n) * perVertex, glm::fvec3(0.0f));
   in.Colors.assign(static_cast<std::size_t>(n) * perVertex, glm::fvec4(0.0f));
-  const double sign = this->FlipNormals ? -1.0 : 1.0;
+  // The cones' axis: the normal as given (FlipNormals: its opposite) points
+  // to the observer's side of a visible vertex; the volume behind the
+  // surface lies on the other side.
+  const double flip = this->FlipNormals ? -1.0 : 1.0;
+  const double sign = this->VolumeSide == BEHIND_SURFACE ? -flip : flip;
   avos::engine::WorkMonitor monitor;
   avos::RayFailures failures;
   auto previsualize = [&](const auto& caster)
@@ -510,7 +517,9 @@ bool vtkVolumeOnSurfaceFilter::CastCones(vtkPolyData* withNormals)
 void vtkVolumeOnSurfaceFilter::AssignColours(vtkPolyData* withNormals, vtkPolyData* output)
 {
   // Each vertex takes the colour of its ray with the largest positive dot
-  // product with the observation line (none: transparent).
+  // product with the observation line (none: transparent), directed away
+  // from the observer for the volume behind the surface, towards it for the
+  // volume in front.
   vtkInternals& in = *this->Internals;
   const vtkIdType n = withNormals->GetNumberOfPoints();
   const int raysPerVertex = static_cast<int>(in.Angles.size()) * this->RaysPerCone;
@@ -538,7 +547,7 @@ void vtkVolumeOnSurfaceFilter::AssignColours(vtkPolyData* withNormals, vtkPolyDa
         withNormals->GetPoint(v, p);
         glm::dvec3 line = parallel ? -glm::dvec3(projection[0], projection[1], projection[2])
                                    : glm::dvec3(eye[0] - p[0], eye[1] - p[1], eye[2] - p[2]);
-        line = glm::normalize(line);
+        line = glm::normalize(line) * (this->VolumeSide == BEHIND_SURFACE ? -1.0 : 1.0);
         int best = -1;
         double bestDot = 0.0;
         const std::size_t first = static_cast<std::size_t>(v) * raysPerVertex;
@@ -568,6 +577,8 @@ void vtkVolumeOnSurfaceFilter::AssignColours(vtkPolyData* withNormals, vtkPolyDa
 void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "VolumeSide: "
+     << (this->VolumeSide == BEHIND_SURFACE ? "BehindSurface" : "InFrontOfSurface") << "\n";
   os << indent << "OpeningAngles:";
   for (double a : this->Internals->Angles)
   {

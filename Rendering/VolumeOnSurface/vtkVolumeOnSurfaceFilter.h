@@ -7,21 +7,30 @@
  * - cones construction: around each vertex normal, one cone per opening
  *   angle (default 20, 45 and 70 degrees) with RaysPerCone rays (default 4)
  *   equally spaced around it;
- * - previsualization: every ray is cast from its vertex out of the volume
- *   and the volume in front of the vertex, as seen looking back along the
- *   ray, is integrated front to back with the numerical core (Riemann sum,
- *   the paper's Levoy model, or the adaptive Simpson rule), with early ray
- *   termination; the RGBA of every ray is kept;
+ * - cones oriented into the volume: the rule for an isosurface's normals is
+ *   that they point to the side a visible vertex is seen from (vtkFlyingEdges3D's
+ *   and vtkPolyDataNormals' do for the side they face; FlipNormals for
+ *   surfaces whose normals point the other way), so the cones are built
+ *   around the opposite of the normal, into the volume behind the surface;
+ * - previsualization: every ray starts at its vertex and runs into the
+ *   volume to its far boundary, integrated front to back from the vertex
+ *   with the numerical core (the piecewise method by default, the Riemann
+ *   sum of the paper's Levoy model, or the adaptive Simpson rule), with
+ *   early ray termination; the RGBA of every ray is kept;
  * - vertex colour assignment: for the camera (SetCamera), each vertex takes
  *   the colour of its ray with the largest positive dot product with the
- *   observation line (vertex to eye; the direction of projection's opposite
- *   for a parallel camera); vertices without such a ray get transparent black.
+ *   observation line directed away from the observer (eye to vertex; the
+ *   direction of projection for a parallel camera); vertices without such a
+ *   ray get transparent black.
+ * VolumeSide IN_FRONT_OF_SURFACE builds the cones around the normal itself
+ * and integrates the volume between the vertex and the observer's side
+ * instead (the observation line then runs from the vertex to the eye).
  *
  * The output is the input surface with three point arrays: "VoSColors"
  * (unsigned char RGBA: RGB = the integrated colour over black, A = opacity;
  * the active scalars), "VoSDisplayColors" (its RGB alone: the surface as the
- * paper draws it, opaque, showing the volume in front of it as a ray cast
- * over black would; colour a polydata mapper by it with
+ * paper draws it, opaque, showing the volume behind it as a ray cast over
+ * black would; colour a polydata mapper by it with
  * SetScalarModeToUsePointFieldData and SelectColorArray, since RGBA scalars
  * are blended, multiplying the colour by its opacity once more) and "VoSRay"
  * (the index of the chosen ray, -1 for none).
@@ -112,10 +121,28 @@ public:
   vtkGetMacro(RaysPerCone, int);
   ///@}
 
+  enum VolumeSides
+  {
+    BEHIND_SURFACE = 0, // cones into the volume behind the surface (the paper's)
+    IN_FRONT_OF_SURFACE // cones towards the observer's side
+  };
+
   ///@{
   /**
-   * Cast the cones around the opposite of the normals (for surfaces whose
-   * normals point into the region the viewer looks from). Default off.
+   * Which volume colours a vertex: BEHIND_SURFACE (default, the paper's
+   * VoS^M), the volume behind the surface along the cone ray closest to the
+   * observation line; IN_FRONT_OF_SURFACE, the volume on the observer's side.
+   */
+  vtkSetClampMacro(VolumeSide, int, BEHIND_SURFACE, IN_FRONT_OF_SURFACE);
+  vtkGetMacro(VolumeSide, int);
+  void SetVolumeSideToBehindSurface() { this->SetVolumeSide(BEHIND_SURFACE); }
+  void SetVolumeSideToInFrontOfSurface() { this->SetVolumeSide(IN_FRONT_OF_SURFACE); }
+  ///@}
+
+  ///@{
+  /**
+   * The surface's normals point away from the side its visible vertices are
+   * seen from (into the volume): the cones take their opposite. Default off.
    */
   vtkSetMacro(FlipNormals, vtkTypeBool);
   vtkGetMacro(FlipNormals, vtkTypeBool);
@@ -131,7 +158,8 @@ public:
 
   ///@{
   /**
-   * How each ray is integrated. Default LEVOY.
+   * How each ray is integrated. Default PIECEWISE (the tolerance holds on any
+   * transfer function).
    */
   vtkSetClampMacro(IntegrationMethod, int, LEVOY, PIECEWISE);
   vtkGetMacro(IntegrationMethod, int);
@@ -243,7 +271,8 @@ protected:
   vtkCamera* Camera = nullptr;
   int RaysPerCone = 4;
   vtkTypeBool FlipNormals = 0;
-  int IntegrationMethod = LEVOY;
+  int IntegrationMethod = PIECEWISE;
+  int VolumeSide = BEHIND_SURFACE;
   double SampleDistance = 0.5;
   double Tolerance = 0.01;
   vtkTypeBool ExtinctionOpacity = 0;

@@ -231,8 +231,9 @@ struct ViewKey
   std::array<double, 3> Eye{};
   bool Parallel = false;
   vtkMTimeType Surface = 0, Volume = 0, Property = 0;
-  // method, step, tolerance, extinction, skipping, visibility, full surface drawn
-  std::array<double, 7> Integration{};
+  // method, step, tolerance, extinction, skipping, visibility, full surface
+  // drawn, volume side
+  std::array<double, 8> Integration{};
   std::vector<double> Planes; // each clipping plane's origin and normal
 
   bool operator==(const ViewKey& o) const
@@ -550,8 +551,11 @@ vtkIdType CastRays(vtkPolyData* full, const VertexView& view, bool parallel,
           const glm::dvec3 point(p[0], p[1], p[2]);
           queued[count] = v;
           points[count] = point;
-          lines[count] = view.Line(point);
-          reaches[count] = parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
+          // Behind: from the vertex away from the observer, to the volume's
+          // far boundary; in front: towards the observer, at most to the eye.
+          const bool behind = setup.Side == avos::VolumeSide::Behind;
+          lines[count] = behind ? -view.Line(point) : view.Line(point);
+          reaches[count] = behind || parallel ? VTK_DOUBLE_MAX : glm::length(view.Eye - point);
           if (++count == batch)
           {
             flush();
@@ -932,7 +936,7 @@ bool vtkVolumeOnSurfaceMapper::UpdateView(vtkRenderer* ren)
   key.Property = this->VolumeProperty->GetMTime();
   key.Integration = { double(this->IntegrationMethod), this->SampleDistance, this->Tolerance,
     double(this->ExtinctionOpacity), double(this->EmptySpaceSkipping), double(this->VisibilityTest),
-    double(this->DrawFullSurface) };
+    double(this->DrawFullSurface), double(this->VolumeSide) };
   if (this->ClippingPlanes)
   {
     vtkCollectionSimpleIterator it;
@@ -1020,6 +1024,7 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
     vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
+  setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
   setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
   setup.Engine = avos::ReadsEngineScalars(setup)
     ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
@@ -1223,6 +1228,8 @@ void vtkVolumeOnSurfaceMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
   const char* methods[3] = { "Levoy", "Adaptive", "Piecewise" };
   os << indent << "IntegrationMethod: " << methods[this->IntegrationMethod] << "\n";
+  os << indent << "VolumeSide: "
+     << (this->VolumeSide == BEHIND_SURFACE ? "BehindSurface" : "InFrontOfSurface") << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "ExtinctionOpacity: " << this->ExtinctionOpacity << "\n";

@@ -1,15 +1,19 @@
 /**
  * @class   vtkVolumeOnSurfaceMapper
- * @brief   draws an isosurface coloured by the volume in front of it (VoS^M*)
+ * @brief   draws an isosurface coloured by the volume behind it (VoS^M*)
  *
  * The VoS^M* technique of ../shared/papers/volume-on-surface.txt as a
- * polydata mapper: at each render, one ray per visible vertex along its line
- * of sight, from the vertex towards the eye through the volume (input port 1),
- * integrated front to back with the numerical core (Riemann sum, the paper's
- * model, or adaptive Simpson); the vertex takes the ray's colour and the lit
- * surface is drawn, opaque, by an OpenGL polydata mapper with the colours'
- * RGB (premultiplied: the volume in front over black, as a ray cast shows
- * it). Visible means front-facing (with respect to the point normals, which
+ * polydata mapper: at each render, one ray per visible vertex, starting at
+ * the vertex and running along the observation line away from the observer
+ * through the volume (input port 1) to its far boundary, integrated front to
+ * back with the numerical core (the piecewise method by default, the
+ * Riemann sum of the paper's model, or adaptive Simpson); the vertex takes
+ * the ray's colour and the lit surface is drawn, opaque, by an OpenGL
+ * polydata mapper with the colours' RGB (premultiplied: the volume behind
+ * the vertex over black, what a ray cast shows through that point when the
+ * surface bounds the empty space in front of the visible volume).
+ * VolumeSide IN_FRONT_OF_SURFACE integrates the volume between the vertex
+ * and the observer instead. Visible means front-facing (with respect to the point normals, which
  * the surface must have) and inside the view frustum; other vertices cost
  * nothing and stay transparent black, and a polygon with no visible corner
  * is not drawn (nothing would colour it: on a closed surface it is hidden
@@ -91,9 +95,9 @@ public:
 
   ///@{
   /**
-   * Integration along each ray, as in vtkVolumeOnSurfaceFilter: LEVOY
-   * (default) with SampleDistance (voxel units, default 0.5), ADAPTIVE or
-   * PIECEWISE with Tolerance (default 0.01); the opacity model (VTK's by
+   * Integration along each ray, as in vtkVolumeOnSurfaceFilter: PIECEWISE
+   * (default) or ADAPTIVE with Tolerance (default 0.01), LEVOY with
+   * SampleDistance (voxel units, default 0.5); the opacity model (VTK's by
    * default).
    */
   vtkSetClampMacro(IntegrationMethod, int, LEVOY, PIECEWISE);
@@ -108,6 +112,26 @@ public:
   vtkSetMacro(ExtinctionOpacity, vtkTypeBool);
   vtkGetMacro(ExtinctionOpacity, vtkTypeBool);
   vtkBooleanMacro(ExtinctionOpacity, vtkTypeBool);
+  ///@}
+
+  enum VolumeSides
+  {
+    BEHIND_SURFACE = 0, // from the vertex away from the observer (the paper's)
+    IN_FRONT_OF_SURFACE // between the vertex and the observer
+  };
+
+  ///@{
+  /**
+   * Which volume colours a vertex: BEHIND_SURFACE (default, the paper's
+   * VoS^M*), the volume from the vertex along the observation line away from
+   * the observer to the volume's far boundary; IN_FRONT_OF_SURFACE, the
+   * volume between the vertex and the observer (or the volume's boundary on
+   * that side).
+   */
+  vtkSetClampMacro(VolumeSide, int, BEHIND_SURFACE, IN_FRONT_OF_SURFACE);
+  vtkGetMacro(VolumeSide, int);
+  void SetVolumeSideToBehindSurface() { this->SetVolumeSide(BEHIND_SURFACE); }
+  void SetVolumeSideToInFrontOfSurface() { this->SetVolumeSide(IN_FRONT_OF_SURFACE); }
   ///@}
 
   ///@{
@@ -265,7 +289,8 @@ protected:
   ///@}
 
   vtkVolumeProperty* VolumeProperty = nullptr;
-  int IntegrationMethod = LEVOY;
+  int IntegrationMethod = PIECEWISE;
+  int VolumeSide = BEHIND_SURFACE;
   double SampleDistance = 0.5;
   double Tolerance = 0.01;
   vtkTypeBool ExtinctionOpacity = 0;

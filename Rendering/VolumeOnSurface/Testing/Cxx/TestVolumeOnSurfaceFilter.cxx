@@ -1,10 +1,13 @@
 // vtkVolumeOnSurfaceFilter against a closed form: a constant volume on
-// [-1, 1]^3 seen through a horizontal square at z = 0 from above. Every ray
-// of the 20-degree cone of a central vertex leaves through the top face after
-// 1 / cos 20 world units, so its RGBA is c (1 - e^{-tau L}), 1 - e^{-tau L};
-// that cone is the closest to the vertical observation line. Then: a camera
-// change only reassigns, a transfer-function change casts again, a camera
-// below the surface sees no ray, the memory report, and bad input.
+// [-1, 1]^3 seen through a horizontal square at z = 0.5 from above. The
+// cones point into the volume (down, opposite the square's normal); every
+// ray of the 20-degree cone of a central vertex leaves through the bottom
+// face after 1.5 / cos 20 world units, so its RGBA is c (1 - e^{-tau L}),
+// 1 - e^{-tau L}; that cone is the closest to the observation line (eye to
+// vertex, downwards). The volume in front of the square (VolumeSide
+// IN_FRONT_OF_SURFACE) is 0.5 / cos 20 long. Then: a camera change only
+// reassigns, a transfer-function change casts again, a camera below the
+// surface sees no ray, the memory report, and bad input.
 #include "vtkCallbackCommand.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -55,9 +58,9 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   property->SetScalarOpacity(opacity);
 
   vtkNew<vtkPlaneSource> square;
-  square->SetOrigin(-0.8, -0.8, 0);
-  square->SetPoint1(0.8, -0.8, 0);
-  square->SetPoint2(-0.8, 0.8, 0);
+  square->SetOrigin(-0.8, -0.8, 0.5);
+  square->SetPoint1(0.8, -0.8, 0.5);
+  square->SetPoint2(-0.8, 0.8, 0.5);
   square->SetResolution(8, 8);
 
   vtkNew<vtkCamera> camera;
@@ -72,12 +75,16 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   vos->SetCamera(camera);
   vos->ExtinctionOpacityOn();
 
-  const double L = 1.0 / std::cos(vtkMath::RadiansFromDegrees(20.0)) / voxel;
-  const double alpha = 1.0 - std::exp(-tau * L);
-  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE,
-         vtkVolumeOnSurfaceFilter::PIECEWISE })
+  const double secant = 1.0 / std::cos(vtkMath::RadiansFromDegrees(20.0));
+  for (int method : { int(vtkVolumeOnSurfaceFilter::LEVOY),
+         int(vtkVolumeOnSurfaceFilter::ADAPTIVE), int(vtkVolumeOnSurfaceFilter::PIECEWISE), -1 })
   {
-    vos->SetIntegrationMethod(method);
+    // -1: the piecewise method through the volume in front of the square.
+    vos->SetVolumeSide(method < 0 ? vtkVolumeOnSurfaceFilter::IN_FRONT_OF_SURFACE
+                                  : vtkVolumeOnSurfaceFilter::BEHIND_SURFACE);
+    const double L = (method < 0 ? 0.5 : 1.5) * secant / voxel;
+    const double alpha = 1.0 - std::exp(-tau * L);
+    vos->SetIntegrationMethod(method < 0 ? vtkVolumeOnSurfaceFilter::PIECEWISE : method);
     vos->Update();
     vtkPolyData* out = vos->GetOutput();
     vtkDataArray* colors = out->GetPointData()->GetArray("VoSColors");
@@ -93,7 +100,8 @@ int TestVolumeOnSurfaceFilter(int, char*[])
     {
       double p[3];
       out->GetPoint(v, p);
-      if (std::abs(p[0]) > 0.6 + 1e-6 || std::abs(p[1]) > 0.6 + 1e-6)
+      // (Their 20-degree rays stay within the volume's sides: 0.4 + 1.5 tan 20 < 1.)
+      if (std::abs(p[0]) > 0.4 + 1e-6 || std::abs(p[1]) > 0.4 + 1e-6)
       {
         continue;
       }
@@ -107,8 +115,10 @@ int TestVolumeOnSurfaceFilter(int, char*[])
           "central vertex colour = closed form (rounded to 8 bits)");
       }
     }
-    Expect(central == 49, "49 central vertices");
+    Expect(central == 25, "25 central vertices");
   }
+  vos->SetVolumeSideToBehindSurface();
+  vos->Update();
 
   // A camera change only reassigns; a transfer-function change casts again.
   camera->Azimuth(10);
@@ -118,7 +128,7 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   vos->Update();
   Expect(vos->GetNumberOfRaysCast() == 81 * 12, "transfer-function change: rays cast again");
 
-  // From below, no ray of the upward cones faces the viewer.
+  // From below, the observation line runs up: no ray of the downward cones.
   camera->SetPosition(0, 0, -5);
   camera->SetViewUp(0, 1, 0);
   vos->Update();

@@ -47,10 +47,12 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   property->SetColor(ctf);
   property->SetScalarOpacity(opacity);
 
+  // A grid at z = 0.5 in the volume [-1, 1]^3, seen from +z: 1.5 world
+  // units of volume behind it, 0.5 in front.
   vtkNew<vtkPlaneSource> grid;
-  grid->SetOrigin(-0.9, -0.9, 0);
-  grid->SetPoint1(0.9, -0.9, 0);
-  grid->SetPoint2(-0.9, 0.9, 0);
+  grid->SetOrigin(-0.9, -0.9, 0.5);
+  grid->SetPoint1(0.9, -0.9, 0.5);
+  grid->SetPoint2(-0.9, 0.9, 0.5);
   grid->SetResolution(30, 30);
   vtkNew<vtkTriangleFilter> triangles;
   triangles->SetInputConnection(grid->GetOutputPort());
@@ -77,7 +79,9 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   renderer->ResetCameraClippingRange();
 
   const vtkIdType n = 31 * 31;
-  const double alpha = 1.0 - std::exp(-tau / voxel);
+  // Each vertex's ray runs from the vertex away from the eye through the
+  // 1.5 world units behind the grid (the paper's VoS^M*).
+  const double alpha = 1.0 - std::exp(-tau * 1.5 / voxel);
   // The largest difference of any vertex's 8-bit colour from the closed form
   // of a constant medium of opacity `a`: colour times a, a.
   auto worstAgainst = [&](double a)
@@ -105,15 +109,24 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   }
   window->Render();
   Expect(mapper->GetNumberOfRaysCast() == 0, "an unchanged frame casts nothing");
+  // The volume in front of the surface instead: the 0.5 world units between
+  // the grid and the volume's boundary towards the eye.
+  mapper->SetVolumeSideToInFrontOfSurface();
+  window->Render();
+  Expect(mapper->GetNumberOfRaysCast() == n &&
+      worstAgainst(1.0 - std::exp(-tau * 0.5 / voxel)) <= 0.5 + 1e-6,
+    "in front of the surface: the closed form of 0.5 world units");
+  mapper->SetVolumeSideToBehindSurface();
 
-  // A clipping plane keeping z <= h cuts the rays too: each leaves the kept
-  // volume after h world units (closed form), and moving the plane casts again.
+  // A clipping plane keeping z >= 0.5 - h cuts the rays too: each leaves the
+  // kept volume after h world units (closed form), and moving the plane
+  // casts again.
   vtkNew<vtkPlane> plane;
-  plane->SetNormal(0, 0, -1);
+  plane->SetNormal(0, 0, 1);
   mapper->AddClippingPlane(plane);
   for (double h : { 0.5, 0.25 })
   {
-    plane->SetOrigin(0, 0, h);
+    plane->SetOrigin(0, 0, 0.5 - h);
     window->Render();
     Expect(mapper->GetNumberOfRaysCast() == n, "a new or moved plane casts again");
     Expect(worstAgainst(1.0 - std::exp(-tau * h / voxel)) <= 0.5 + 1e-6,
@@ -197,7 +210,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   mapper->SetPixelsPerVertex(2.0);
   camera->SetParallelScale(1.2);
 
-  // Empty-space skipping: a blob above the grid in a transparent volume. The
+  // Empty-space skipping: a blob behind the grid in a transparent volume. The
   // rays cross transparent blocks; a Riemann sum gives the same bytes with
   // and without skipping, the adaptive rule stays within its tolerance.
   {
@@ -213,7 +226,7 @@ int TestVolumeOnSurfaceMapper(int, char*[])
         for (int i = 0; i < 33; ++i)
         {
           const double x = -1 + i * voxel, y = -1 + j * voxel, z = -1 + k * voxel;
-          const bool inside = x * x + y * y + (z - 0.5) * (z - 0.5) < 0.2;
+          const bool inside = x * x + y * y + (z + 0.2) * (z + 0.2) < 0.2;
           blob->GetPointData()->GetScalars()->SetTuple1(i + 33 * (j + 33 * k), inside ? 300 : 0);
         }
       }
