@@ -56,21 +56,22 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "..", "shared", "data")
 COMPARE = os.path.join(ROOT, "build", "bin", "avos-compare")
 
-# Volume, transfer function, isovalue where the transfer function shows the
-# surface: bone for Foot, the plant for Bonsai, the metal for Engine; and the
-# opacity knots a scene puts in place of the file's. Foot.tf1d gives the air
-# (scalar 0) opacity 0.3, a fog box in front of everything, and the bone
-# almost none (0.02 to 0.08 at 170 to 226): nothing to see on either side.
-# Its scene keeps the file's colours and shows what VoS is for, the tissue in
-# front of the bone: soft tissue 0.05 (scalars 60 to 110), bone 0.1 (from
-# 170), the isosurface on the bone.
+# Volume, transfer function, and the isovalue where the transfer function
+# starts to show: VoS replaces the (empty) space in front of the visible
+# volume by the surface, and each vertex's ray integrates what lies behind
+# it. Engine's and Bonsai's files are transparent up to 30 and rise from 0;
+# Foot.tf1d makes the air a fog (opacity 0.3 at scalar 0) and the bone
+# almost transparent, so its scene keeps the file's colours with soft tissue
+# 0.05 (scalars 60 to 110) and bone 0.1 (from 170), transparent below 40.
+# What still lies in front of each surface is measured (VoS^M* integrating
+# the volume in front, IN_FRONT_OF_SURFACE) and reported.
 FOOT_OPACITY = [(0, 0.0), (40, 0.0), (60, 0.05), (110, 0.05), (130, 0.0), (160, 0.0), (170, 0.1),
                 (255, 0.1)]
 DATASETS = {
-    "Foot": ("foot_zfp.vti", "Foot.tf1d", 185,
+    "Foot": ("foot_zfp.vti", "Foot.tf1d", 45,
              "its colours; opacity " + ", ".join("%g: %g" % k for k in FOOT_OPACITY)),
-    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.linear.tf1d", 50, ""),
-    "Engine": ("engine_zfp.vti", "Engine.1.256x256x128.linear.tf1d", 120, ""),
+    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.linear.tf1d", 30, ""),
+    "Engine": ("engine_zfp.vti", "Engine.1.256x256x128.linear.tf1d", 35, ""),
 }
 SIZES = [(800, 600), (400, 300)]
 REDUCTIONS = [0.0, 0.25, 0.5, 0.75, 0.9]
@@ -204,6 +205,18 @@ def masked_psnr(image, reference, mask):
     if count == 0 or total == 0:
         return float("inf")
     return 10.0 * math.log10(255.0 ** 2 / (total / count))
+
+
+def vos_star(surface, volume, prop):
+    """A VoS^M* mapper with the paper's Riemann sum (h 0.5, the ray casters'
+    step) and no level of detail yet."""
+    star = avos.vtkVolumeOnSurfaceMapper()
+    star.SetIntegrationMethodToLevoy()
+    star.SetInputConnection(surface.GetOutputPort())
+    star.SetVolumeConnection(volume.GetOutputPort())
+    star.SetVolumeProperty(prop)
+    star.RemoveAllLevelOfDetailReductions()
+    return star
 
 
 def footprint(scene, surface, path):
@@ -355,6 +368,7 @@ def main():
             # per camera; a transfer-function change casts the cones again.
             prop = make_property(tf_path, name)
             vos = avos.vtkVolumeOnSurfaceFilter()
+            vos.SetIntegrationMethodToLevoy()  # the paper's model, the ray caster's step
             vos.SetInputConnection(surface.GetOutputPort())
             vos.SetVolumeConnection(volume.GetOutputPort())
             vos.SetVolumeProperty(prop)
@@ -402,11 +416,7 @@ def main():
                     ["visible"] + (["cast 75", "cast 90"] if size == SIZES[0] else []) + ["auto"]:
                 auto, visible = reduction == "auto", reduction == "visible"
                 cast = float(reduction[5:]) / 100 if str(reduction).startswith("cast ") else None
-                star = avos.vtkVolumeOnSurfaceMapper()
-                star.SetInputConnection(surface.GetOutputPort())
-                star.SetVolumeConnection(volume.GetOutputPort())
-                star.SetVolumeProperty(prop)
-                star.RemoveAllLevelOfDetailReductions()
+                star = vos_star(surface, volume, prop)
                 levels = REDUCTIONS if auto else [0.0] if visible else [0.0, cast] if cast else \
                     [reduction]
                 for r in levels:
@@ -427,6 +437,38 @@ def main():
                     "VoS^M* %d %%" % round(100 * reduction)
                 shot = image("VoS-Mstar-" + tag_name)
                 scene.save(shot)
+                if reduction == 0.0 and size == SIZES[0]:
+                    # (Before the rotation below: the reference's camera.)
+                    # The same colours drawn unlit (the rays' RGB as they are,
+                    # as the unlit ray cast shows them), and what lies in
+                    # front of the surface: the opacity VoS leaves out.
+                    actor.GetProperty().LightingOff()
+                    start = time.perf_counter()
+                    scene.window.Render()
+                    unlit_s = time.perf_counter() - start
+                    unlit = image("VoS-Mstar-unlit")
+                    scene.save(unlit)
+                    psnr_unlit, ssim_unlit = quality(unlit, reference)
+                    shots.append(("VoS^M* unlit", unlit))
+                    record(name, size, "VoS^M* 0 % unlit", "first frame", [unlit_s],
+                           {"psnr": psnr_unlit, "ssim": ssim_unlit,
+                            "footprint_psnr": masked_psnr(unlit, reference, mask)})
+                    actor.GetProperty().LightingOn()
+                    front = vos_star(surface, volume, prop)
+                    front.AddLevelOfDetailReduction(0.0)
+                    front.SetLevelOfDetail(0)
+                    front.SetVolumeSideToInFrontOfSurface()
+                    actor.SetMapper(front)
+                    scene.window.Render()
+                    colours = front.GetColoredSurface().GetPointData().GetScalars()
+                    # Vertices not cast keep alpha 0: the mean is over the cast ones.
+                    alphas = [colours.GetComponent(v, 3) / 255.0
+                              for v in range(colours.GetNumberOfTuples())]
+                    cast_count = max(1, front.GetNumberOfRaysCast())
+                    tables.setdefault("front", []).append(
+                        (name, sum(alphas) / cast_count, max(alphas), cast_count))
+                    actor.SetMapper(star)
+                    scene.window.Render()
                 if auto or reduction in (0.0, 0.75) or cast == 0.75:
                     shots.append((label, shot))
                 psnr, ssim = quality(shot, reference)
@@ -507,11 +549,17 @@ def write_report(args, names, rows, tables, minutes):
            "Mesa llvmpipe). Every volume at every 2nd voxel; VTK opacity semantics; camera from "
            "the front, turning %d frames of 10 degrees about the view up axis; medians; no "
            "multisampling." % (",".join(names), args.frames, minutes, args.frames), "",
-           "Scenes (isovalue of the isosurface where the transfer function shows it):", ""]
+           "Scenes (isovalue of the isosurface where the transfer function starts to show it):",
+           ""]
     for name in names:
         volume_file, tf_file, iso, change = DATASETS[name]
         out.append("- %s: `%s`, `%s`%s, isovalue %g." % (name, volume_file, tf_file,
                                                      " (" + change + ")" if change else "", iso))
+    out += ["", "What lies in front of each surface (VoS^M* integrating the volume between "
+            "each cast vertex and the eye, 800x600, first frame): the opacity VoS leaves out.",
+            "", "| dataset | mean opacity in front | largest | vertices |", "|---|---:|---:|---:|"]
+    for name, mean, largest, count in tables.get("front", []):
+        out.append("| %s | %.4f | %.4f | %d |" % (name, mean, largest, count))
     out += ["", "The paper's ray caster covered every pixel and went on through opaque parts; "
            "ours and VTK's fixed-point mapper skip empty blocks and stop opaque rays. The row "
            "`no skipping` is ours without empty-space skipping, nearer the paper's baseline "
