@@ -410,10 +410,14 @@ bool DepthWith(vtkRenderer* ren, Draw&& draw, std::vector<float>& depth, int are
 // others have no colour, every corner transparent black: drawn, they would
 // cost the draw (most of a frame in software OpenGL) to put black over
 // whatever lies behind them, which on a closed surface hides them anyway.
-void ShownPolygons(
-  vtkPolyData* surface, const std::vector<unsigned char>& cast, vtkCellArray* shown)
+// Then every corner of a shown polygon joins `cast`: a corner facing away
+// (on small, noisy surface fragments, or along a silhouette) would
+// otherwise stay black and darken the polygon drawn; its ray, from the
+// corner away from the observer, is as well defined as its neighbours'.
+void ShownPolygons(vtkPolyData* surface, std::vector<unsigned char>& cast, vtkCellArray* shown)
 {
   shown->Reset();
+  std::vector<unsigned char> corners(cast.size(), 0);
   surface->GetPolys()->Visit(
     [&](auto& state)
     {
@@ -427,10 +431,15 @@ void ShownPolygons(
           for (const auto id : ids)
           {
             shown->InsertCellPoint(id);
+            corners[static_cast<std::size_t>(id)] = 1;
           }
         }
       }
     });
+  for (std::size_t v = 0; v < cast.size(); ++v)
+  {
+    cast[v] |= corners[v];
+  }
 }
 
 // The vertices of `surface` that need a ray after a depth pass: those `view`
