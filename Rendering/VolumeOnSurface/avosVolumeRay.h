@@ -174,8 +174,8 @@ struct VolumeRaySetup
     return std::string();
   }
 
-  // Calls f(caster) with a VolumeRay for the scalars' type; false for an
-  // unsupported type.
+  // Calls f(caster) with the execution's VolumeRay; false for a scalar type
+  // the engine does not read.
   template <typename F>
   bool Dispatch(F&& f) const;
 };
@@ -190,15 +190,33 @@ inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
       avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType())));
 }
 
-template <typename Storage>
+// The rays of one execution, integrated as vtkAdaptiveVolumeMapper's are:
+// through the frame engine's IntegrateRay (the same methods, clipping rule
+// and early termination), and a ray per SIMD lane of the Riemann kernel for
+// unclipped Levoy rays.
 class VolumeRay
 {
 public:
-  VolumeRay(const VolumeRaySetup& setup, const Storage* data)
+  // `view`: the setup's scalars as the engine reads them in place.
+  VolumeRay(const VolumeRaySetup& setup, const avos::engine::Scalars& view)
     : Setup(setup)
-    , Volume(data, setup.Dimensions)
-    , Kernels(setup.Engine)
+    , View(view)
   {
+    avos::engine::FrameMethod& m = this->Method;
+    m.Kind = setup.Method == RayIntegration::Levoy
+      ? avos::engine::Integration::Riemann
+      : (setup.Method == RayIntegration::Adaptive ? avos::engine::Integration::AdaptiveCoupled
+                                                  : avos::engine::Integration::Piecewise);
+    m.Adaptive = setup.Settings;
+    m.SampleDistance = setup.SampleDistance;
+    m.TerminationBound = this->TerminationBound();
+    m.TF = &setup.TF;
+    m.Map = setup.Map;
+    m.Pieces = &setup.Pieces;
+    m.EngineVolume = setup.Method == RayIntegration::Levoy ? setup.Engine : nullptr;
+    m.EngineTable = &setup.Table;
+    m.Kernels = avos::engine::PieceKernels(
+      setup.Method == RayIntegration::Piecewise ? setup.Engine : nullptr);
   }
 
   // RGBA of the volume from the vertex along `direction` (a unit world
@@ -339,65 +357,26 @@ private:
 
   // The spanned ray over `segments`, the parts of [0, D] in visible blocks
   // (all of it without skipping): a Riemann sum over them is the full sum
-  // exactly, the adaptive rule keeps its bound (RayIntegrators.h). Cut
-  // further by the clipping planes, exactly where the ray crosses them (the
-  // methods integrate exactly the segments they get).
+  // exactly, the other methods keep their bounds (RayIntegrators.h). The
+  // clipping planes cut it exactly where the ray crosses them, as in
+  // vtkAdaptiveVolumeMapper (engine::IntegrateRay).
   void Integrate(const glm::dvec3& origin, const glm::dvec3& march, double D,
     std::vector<avos::numerics::Interval<double>>& segments,
     avos::numerics::RayResult<double>& result) const
   {
-    thread_local std::vector<avos::numerics::Interval<double>> kept, clipped;
-    if (!this->Setup.Clip.IsEmpty() && !segments.empty())
-    {
-      this->Setup.Clip.Kept(origin, march, D, kept);
-      avos::numerics::ClipRegion<double>::Intersect(segments, kept, clipped);
-      std::swap(segments, clipped);
-    }
-    if (segments.empty())
-    {
-      return;
-    }
-    if (this->Setup.Method == RayIntegration::Adaptive)
-    {
-      const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>>
-        field{ this->Volume, origin, march };
-      result = avos::numerics::IntegrateAdaptive(
-        field, this->Setup.TF, segments.data(), segments.size(), this->Setup.Settings);
-      return;
-    }
-    if (this->Setup.Method == RayIntegration::Piecewise)
-    {
-      // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
-      result = avos::numerics::IntegratePiecewise(this->Volume, origin, march, segments.data(),
-        segments.size(), this->Setup.Pieces, this->Setup.Settings.Tolerance, true, nullptr,
-        this->Kernels);
-      return;
-    }
-    if (this->Setup.Engine)
-    {
-      // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
-      avos::engine::RayOutput out;
-      avos::engine::CastRiemann(*this->Setup.Engine, this->Setup.Table, &origin.x, &march.x, D,
-        this->Setup.SampleDistance, segments.data(), segments.size(), this->TerminationBound(),
-        out);
-      result.RGBA = glm::dvec4(out.RGBA[0], out.RGBA[1], out.RGBA[2], out.RGBA[3]);
-      return;
-    }
-    const avos::numerics::RayField<double, avos::numerics::TrilinearVolume<double, Storage>> field{
-      this->Volume, origin, march
-    };
-    result = avos::numerics::IntegrateRiemann(field, this->Setup.TF, D, this->Setup.SampleDistance,
-      avos::numerics::RiemannForm::Exponential, segments.data(), segments.size(),
-      this->TerminationBound());
+    thread_local avos::engine::RayScratch scratch;
+    std::swap(scratch.Visible, segments);
+    avos::engine::IntegrateRay(
+      this->View, this->Setup.Clip, this->Method, origin, march, D, scratch, result);
+    std::swap(scratch.Visible, segments);
   }
 
   // The Riemann sums' early termination bound.
   double TerminationBound() const { return 0.2 * this->Setup.Settings.Tolerance; }
 
   const VolumeRaySetup& Setup;
-  const avos::numerics::TrilinearVolume<double, Storage> Volume;
-  // Piecewise: the cells from Setup.Engine where it holds the scalars.
-  const avos::engine::PieceKernels Kernels;
+  const avos::engine::Scalars View;
+  avos::engine::FrameMethod Method;
 };
 
 // The rays of one execution that could not be integrated, counted across
@@ -465,13 +444,12 @@ inline std::array<unsigned char, 4> ToBytes(const glm::dvec4& rgba)
 template <typename F>
 bool VolumeRaySetup::Dispatch(F&& f) const
 {
-  switch (this->Scalars->GetDataType())
+  avos::engine::Scalars view;
+  if (!ScalarsInPlace(this->Scalars, this->Dimensions, view))
   {
-    vtkTemplateMacro(
-      f(VolumeRay<VTK_TT>(*this, static_cast<const VTK_TT*>(this->Scalars->GetVoidPointer(0)))));
-    default:
-      return false;
+    return false;
   }
+  f(VolumeRay(*this, view));
   return true;
 }
 }
