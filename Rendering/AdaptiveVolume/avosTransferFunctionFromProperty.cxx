@@ -231,6 +231,18 @@ std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, bool 
   return std::string();
 }
 
+std::string avos::ApproximationNotice(int approximatedIntervals)
+{
+  if (approximatedIntervals <= 0)
+  {
+    return std::string();
+  }
+  return std::to_string(approximatedIntervals) +
+    " interval(s) of the transfer function (a sharpness between 0.01 and 0.99, or HSV, Lab or "
+    "Diverging colour space) are approximated by 16 linear pieces each, without a proven bound: "
+    "the tolerance is not certified there";
+}
+
 std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool extinction,
   double voxel, TransferFunction& tf, int* approximatedIntervals)
 {

@@ -36,6 +36,13 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr);
 
 /**
+ * The warning for `approximatedIntervals` intervals TransferFunctionFromProperty
+ * could not take exactly (a sentence, no final stop), empty for none: the
+ * classes say it once per conversion instead of keeping silent.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ApproximationNotice(int approximatedIntervals);
+
+/**
  * Empty, or a sentence (no final stop) naming the property's settings that the ray
  * integrals do not honour (never ignored): nearest interpolation, a
  * gradient opacity that changes anything (VTK's default constant 1 is

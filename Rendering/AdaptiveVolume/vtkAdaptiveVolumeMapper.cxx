@@ -535,11 +535,7 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     }
     if (approximated > 0)
     {
-      vtkWarningMacro(<< approximated
-                      << " interval(s) of the transfer function (a sharpness between 0.01 and "
-                         "0.99, or HSV, Lab or Diverging colour space) are approximated by 16 "
-                         "linear pieces each, without a proven bound: the tolerance is not "
-                         "certified there.");
+      vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
     }
     internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();

@@ -229,8 +229,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
     voxel != internals.TFVoxel)
   {
+    int approximated = 0;
     error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF);
+      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF, &approximated);
     internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
@@ -238,6 +239,10 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     if (!error.empty())
     {
       return error;
+    }
+    if (approximated > 0)
+    {
+      vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
     }
   }
   const std::size_t pieces = internals.TF.GetPieces().size();

@@ -85,6 +85,9 @@ struct VolumeRaySetup
   // null to integrate every ray over its whole length.
   const avos::numerics::EmptySpaceMap<double>* Map = nullptr;
 
+  // Intervals of the transfer function not taken exactly (ApproximationNotice).
+  int ApproximatedIntervals = 0;
+
   // The clipping planes that cut the rays (grid coordinates; AddClippingPlanes).
   avos::numerics::ClipRegion<double> Clip;
 
@@ -134,8 +137,8 @@ struct VolumeRaySetup
     {
       return unsupported;
     }
-    const std::string error =
-      TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF);
+    const std::string error = TransferFunctionFromProperty(
+      property, extinction, this->Voxel, this->TF, &this->ApproximatedIntervals);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;

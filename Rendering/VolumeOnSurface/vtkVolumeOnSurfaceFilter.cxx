@@ -416,6 +416,10 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
     vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
+  if (setup.ApproximatedIntervals > 0)
+  {
+    vtkWarningMacro(<< avos::ApproximationNotice(setup.ApproximatedIntervals) << ".");
+  }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
   setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
   setup.Engine = avos::ReadsEngineScalars(setup)

@@ -1033,6 +1033,10 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
     vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
+  if (setup.ApproximatedIntervals > 0)
+  {
+    vtkWarningMacro(<< avos::ApproximationNotice(setup.ApproximatedIntervals) << ".");
+  }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
   setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
   setup.Engine = avos::ReadsEngineScalars(setup)

@@ -123,6 +123,9 @@ int TestTransferFunctionFromProperty(int, char*[])
     c.Colour->AddRGBPoint(10.0, 0.0, 0.0, 1.0);
     Expect(c.Convert().empty(), "curves convert");
     Expect(c.Approximated == 2, "the curve and the HSV interval are reported approximated");
+    Expect(avos::ApproximationNotice(c.Approximated).find("2 interval(s)") == 0 &&
+        avos::ApproximationNotice(0).empty(),
+      "the classes' warning names the count, and there is none without approximation");
   }
   {
     // VTK's rounding above 1 is clamped; a real excess is refused.
