@@ -16,6 +16,7 @@
 #include "vtkNew.h"
 #include "vtkPlaneCollection.h"
 #include "vtkPointData.h"
+#include "vtkSetGet.h"
 #include "vtkType.h"
 
 #include "avosClippingPlanes.h"
@@ -433,6 +434,34 @@ private:
 
 // A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes
 // output.
+// Points the prepared setup at the execution's empty-space map (when
+// `skipping`) and at the engine's view of the scalars where its rays read
+// it, both kept across executions by the calling class.
+inline void UseCaches(
+  VolumeRaySetup& setup, EmptySpaceCache& emptySpace, EngineVolume& engineScalars, bool skipping)
+{
+  setup.Map = skipping ? emptySpace.Update(setup) : nullptr;
+  setup.Engine =
+    ReadsEngineScalars(setup) ? engineScalars.Update(setup.Scalars, setup.Dimensions) : nullptr;
+}
+
+// Says on `caller` why the setup could not be prepared (`error`: an error,
+// false returned) or that its transfer function is approximated (a
+// warning).
+inline bool ReportPrepared(vtkObject* caller, const std::string& error, const VolumeRaySetup& setup)
+{
+  if (!error.empty())
+  {
+    vtkErrorWithObjectMacro(caller, << "Cannot cast rays: " << error << ".");
+    return false;
+  }
+  if (setup.ApproximatedIntervals > 0)
+  {
+    vtkWarningWithObjectMacro(caller, << ApproximationNotice(setup.ApproximatedIntervals) << ".");
+  }
+  return true;
+}
+
 inline std::array<unsigned char, 4> ToBytes(const glm::dvec4& rgba)
 {
   std::array<unsigned char, 4> bytes;

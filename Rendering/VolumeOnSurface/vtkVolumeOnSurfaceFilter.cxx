@@ -411,20 +411,12 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
   const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
     static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
     this->Tolerance);
-  if (!error.empty())
+  if (!avos::ReportPrepared(this, error, setup))
   {
-    vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
-  if (setup.ApproximatedIntervals > 0)
-  {
-    vtkWarningMacro(<< avos::ApproximationNotice(setup.ApproximatedIntervals) << ".");
-  }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
-  setup.Map = key.Skipping ? in.EmptySpace.Update(setup) : nullptr;
-  setup.Engine = avos::ReadsEngineScalars(setup)
-    ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
-    : nullptr;
+  avos::UseCaches(setup, in.EmptySpace, in.EngineScalars, key.Skipping);
   in.Setup = &setup;
   const bool cast = this->CastCones(withNormals);
   in.Setup = nullptr;

@@ -1028,20 +1028,12 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
   const std::string error = setup.Prepare(in.Volume, this->VolumeProperty,
     this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
     this->SampleDistance, this->Tolerance, this->ClippingPlanes);
-  if (!error.empty())
+  if (!avos::ReportPrepared(this, error, setup))
   {
-    vtkErrorMacro(<< "Cannot cast rays: " << error << ".");
     return false;
   }
-  if (setup.ApproximatedIntervals > 0)
-  {
-    vtkWarningMacro(<< avos::ApproximationNotice(setup.ApproximatedIntervals) << ".");
-  }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
-  setup.Map = this->EmptySpaceSkipping ? in.EmptySpace.Update(setup) : nullptr;
-  setup.Engine = avos::ReadsEngineScalars(setup)
-    ? in.EngineScalars.Update(setup.Scalars, setup.Dimensions)
-    : nullptr;
+  avos::UseCaches(setup, in.EmptySpace, in.EngineScalars, this->EmptySpaceSkipping != 0);
   this->SelectDrawing(levelIndex);
   this->TestVisibility(ren, act);
   in.Current.Setup = &setup;
