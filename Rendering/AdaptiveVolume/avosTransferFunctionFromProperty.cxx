@@ -1,10 +1,16 @@
 #include "avosTransferFunctionFromProperty.h"
 
 #include "vtkColorTransferFunction.h"
+#include "vtkMath.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
 
 namespace
 {
@@ -98,9 +104,107 @@ void AddInterval(double x0, const double* v0, double x1, const double* v1, doubl
   }
 }
 
+// The knots of one node interval [x0, x1) of an HSV colour function with a
+// sharpness below 0.01, after the node's own, within `tolerance` of VTK's
+// colours (a proven bound). VTK interpolates h, s and v linearly in the
+// midpoint-bent position x' (the hue the short way round when HSVWrap is
+// on, then back into [0, 1)) and converts to RGB by vtkMath::HSVToRGB, where
+// each channel is v (1 - s + s g(h)) with g linear between multiples of 1/6
+// of the hue: between those breakpoints, the bend and the wrap, each channel
+// is a cubic in x. On such a part of width w a cubic's second derivative is
+// linear, so its largest |p''| is at an end (M2, from the cubic through four
+// equally spaced values, plus their rounding's share), and n equal linear
+// pieces with (w / n)^2 M2 / 8 <= tolerance / 2 stay within tolerance / 2 of
+// it. False (nothing added) when a part would need more than MaximumKnots.
+constexpr int MaximumKnots = 4096;
+
+template <typename Add>
+bool AddHSVInterval(double x0, const double* rgb0, double x1, const double* rgb1, double midpoint,
+  bool wrap, double tolerance, Add&& add)
+{
+  double h0[3], h1[3];
+  vtkMath::RGBToHSV(rgb0, h0);
+  vtkMath::RGBToHSV(rgb1, h1);
+  if (wrap && std::abs(h1[0] - h0[0]) > 0.5)
+  {
+    (h0[0] > h1[0] ? h0[0] : h1[0]) -= 1.0;
+  }
+  const double m = std::min(std::max(midpoint, 0.00001), 0.99999);
+  const double xm = x0 + m * (x1 - x0);
+  // x' (0 to 1, 0.5 at the midpoint) to x, and the colour at x'.
+  auto toX = [&](double t)
+  { return t < 0.5 ? x0 + 2.0 * t * (xm - x0) : xm + (2.0 * t - 1.0) * (x1 - xm); };
+  auto colourAt = [&](double t, double* rgb)
+  {
+    double hsv[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      hsv[k] = h0[k] + t * (h1[k] - h0[k]);
+    }
+    hsv[0] += hsv[0] < 0.0 ? 1.0 : 0.0;
+    vtkMath::HSVToRGB(hsv, rgb);
+  };
+  std::vector<double> breaks{ 0.0, 0.5, 1.0 };
+  for (int k = -6; k <= 6 && h1[0] != h0[0]; ++k)
+  {
+    const double t = (k / 6.0 - h0[0]) / (h1[0] - h0[0]);
+    if (t > 0.0 && t < 1.0)
+    {
+      breaks.push_back(t);
+    }
+  }
+  std::sort(breaks.begin(), breaks.end());
+  std::vector<std::pair<double, std::array<double, 3>>> knots;
+  for (std::size_t b = 0; b + 1 < breaks.size(); ++b)
+  {
+    const double ta = breaks[b], tb = breaks[b + 1];
+    if (!(tb > ta))
+    {
+      continue;
+    }
+    const double w = toX(tb) - toX(ta);
+    double f[4][3];
+    for (int j = 0; j < 4; ++j)
+    {
+      colourAt(ta + (tb - ta) * j / 3.0, f[j]);
+    }
+    // |p''| at both ends of the cubic through the four values, h = w / 3,
+    // and what rounding of the values (a few ulps of 1) can add to it.
+    const double h = w / 3.0;
+    double m2 = 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      const double a = 2 * f[0][c] - 5 * f[1][c] + 4 * f[2][c] - f[3][c];
+      const double e = -f[0][c] + 4 * f[1][c] - 5 * f[2][c] + 2 * f[3][c];
+      m2 = std::max(m2, std::max(std::abs(a), std::abs(e)) / (h * h));
+    }
+    m2 += 12.0 * 4.0 * std::numeric_limits<double>::epsilon() / (h * h);
+    const double pieces = std::ceil(w * std::sqrt(m2 / (4.0 * tolerance)));
+    if (!(pieces <= MaximumKnots))
+    {
+      return false;
+    }
+    const int n = std::max(1, static_cast<int>(pieces));
+    for (int k = 1; k <= n; ++k)
+    {
+      const double t = ta + (tb - ta) * k / n;
+      std::array<double, 3> rgb;
+      colourAt(t, rgb.data());
+      knots.push_back({ toX(t), rgb });
+    }
+  }
+  knots.pop_back(); // the next node's own
+  for (const auto& k : knots)
+  {
+    add(k.first, k.second.data());
+  }
+  return true;
+}
+
 // VTK's colour function as knots: exact where VTK interpolates piecewise
 // linearly, resampled where it does not.
-std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int& approximated)
+std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int& approximated,
+  double colourTolerance, int& certified)
 {
   auto addColour = [&](double s, const double* rgb)
   { tf.AddColorKnot(s, ClampRounding(rgb[0]), ClampRounding(rgb[1]), ClampRounding(rgb[2])); };
@@ -147,9 +251,18 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
     if (i + 1 < n)
     {
       color->GetNodeValue(i + 1, next);
+      const Shape shape = ShapeOf(node[4], node[5], linearSpace);
+      if (shape == Shape::Curved && colourTolerance > 0.0 && node[5] < 0.01 &&
+        color->GetColorSpace() == VTK_CTF_HSV &&
+        AddHSVInterval(node[0], node + 1, next[0], next + 1, node[4], color->GetHSVWrap() != 0,
+          colourTolerance, addColour))
+      {
+        ++certified;
+        continue;
+      }
       AddInterval<3>(
-        node[0], node + 1, next[0], next + 1, node[4], ShapeOf(node[4], node[5], linearSpace),
-        addColour, [color](double s, double* rgb) { color->GetColor(s, rgb); }, approximated);
+        node[0], node + 1, next[0], next + 1, node[4], shape, addColour,
+        [color](double s, double* rgb) { color->GetColor(s, rgb); }, approximated);
     }
   }
   return std::string();
@@ -244,15 +357,16 @@ std::string avos::ApproximationNotice(int approximatedIntervals)
 }
 
 std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool extinction,
-  double voxel, TransferFunction& tf, int* approximatedIntervals)
+  double voxel, TransferFunction& tf, int* approximatedIntervals, double colourTolerance,
+  int* certifiedIntervals)
 {
   tf = TransferFunction();
   if (!property)
   {
     return "no volume property";
   }
-  int approximated = 0;
-  std::string error = ConvertColor(property, tf, approximated);
+  int approximated = 0, certified = 0;
+  std::string error = ConvertColor(property, tf, approximated, colourTolerance, certified);
   if (error.empty())
   {
     error = ConvertOpacity(property, tf, approximated);
@@ -260,6 +374,10 @@ std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool
   if (approximatedIntervals)
   {
     *approximatedIntervals = approximated;
+  }
+  if (certifiedIntervals)
+  {
+    *certifiedIntervals = certified;
   }
   if (!extinction)
   {

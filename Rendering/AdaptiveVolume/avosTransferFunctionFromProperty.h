@@ -28,12 +28,26 @@ namespace avos
  * Hermite curve, HSV, Lab or Diverging space) VTK's function is resampled
  * with 16 sub-knots per interval, an approximation without a proven bound:
  * `approximatedIntervals` (when given) gets the number of such intervals.
+ * With `colourTolerance` > 0, HSV colour intervals with a sharpness below
+ * 0.01 are instead linearised within colourTolerance of VTK's colours, a
+ * proven bound (at most 4096 knots per part between hue sectors, else
+ * resampled): `certifiedIntervals` gets their number.
  * Returns an empty string, or why the property cannot be used (empty
  * functions, invalid values).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel,
-  avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr);
+  avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr,
+  double colourTolerance = 0.0, int* certifiedIntervals = nullptr);
+
+/**
+ * The share of a class's tolerance eps that the colour's conversion may
+ * take (`colourTolerance` = ColourShare eps): a colour within delta of
+ * VTK's changes a pixel by at most delta (1 - T) <= delta (the emission's
+ * weights sum to the ray's opacity), so a class that integrates the
+ * converted function to (1 - ColourShare) eps keeps every pixel within eps.
+ */
+constexpr double ColourShare = 0.1;
 
 /**
  * The warning for `approximatedIntervals` intervals TransferFunctionFromProperty

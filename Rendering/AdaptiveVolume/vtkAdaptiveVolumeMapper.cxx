@@ -191,6 +191,12 @@ public:
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
   double ClassifiedVoxel = 0.0;
+  // The colour's conversion tolerance (avos::ColourShare of the piecewise
+  // method's eps, 0 otherwise), and the tolerance the rays are integrated
+  // to: eps less that share where the conversion used it.
+  double ColourTolerance = 0.0;
+  int CertifiedIntervals = 0;
+  double IntegrationTolerance = 0.0;
   vtkTimeStamp ClassifyTime;
   std::size_t VisibleBlocks = 0;
   bool Shade = false;
@@ -519,14 +525,22 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
       return false;
     }
   }
-  // Property -> transfer function and block visibility.
+  // Property -> transfer function and block visibility. The piecewise
+  // method's colours are converted within a share of its eps where VTK's
+  // are not piecewise linear, and the rays integrated to the rest.
+  const double colourTolerance =
+    this->IntegrationMethod == PIECEWISE_ADAPTIVE ? avos::ColourShare * this->Tolerance : 0.0;
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
-    internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime())
+    internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime() ||
+    colourTolerance != internals.ColourTolerance)
   {
-    int approximated = 0;
-    const std::string error = avos::TransferFunctionFromProperty(property,
-      this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF, &approximated);
+    int approximated = 0, certified = 0;
+    const std::string error =
+      avos::TransferFunctionFromProperty(property, this->OpacityModel == EXTINCTION_OPACITY,
+        internals.Voxel, internals.TF, &approximated, colourTolerance, &certified);
+    internals.ColourTolerance = colourTolerance;
+    internals.CertifiedIntervals = certified;
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
@@ -543,6 +557,8 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifiedVoxel = internals.Voxel;
     internals.ClassifyTime.Modified();
   }
+  internals.IntegrationTolerance =
+    this->Tolerance * (internals.CertifiedIntervals > 0 ? 1.0 - avos::ColourShare : 1.0);
   return this->UpdatePieces();
 }
 
@@ -561,7 +577,7 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
     // The relative error only matters in VTK's alpha model (the extinction
     // model's pieces are exact); the reference never uses the alpha model here.
     const double relativeError = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive
-      ? an::PiecewiseRelativeError(this->Tolerance)
+      ? an::PiecewiseRelativeError(internals.IntegrationTolerance)
       : an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>());
     if (internals.PiecesTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
       relativeError != internals.PiecesRelativeError)
@@ -724,11 +740,12 @@ void vtkAdaptiveVolumeMapper::SetUpMethod()
   method.Kind = kinds[this->IntegrationMethod];
   method.Mode = EngineBlend(this->BlendMode);
   method.Adaptive = internals.Adaptive;
+  method.Adaptive.Tolerance = internals.IntegrationTolerance;
   // Trilinear values never leave the data's range.
   method.Adaptive.FieldMinimum = internals.DataRange[0];
   method.Adaptive.FieldMaximum = internals.DataRange[1];
   method.SampleDistance = this->SampleDistance;
-  method.TerminationBound = 0.2 * this->Tolerance;
+  method.TerminationBound = 0.2 * internals.IntegrationTolerance;
   method.TF = &internals.TF;
   method.Map = this->EmptySpaceSkipping ? &internals.Ranges.GetMap() : nullptr;
   method.Range = &internals.AverageRange;

@@ -128,6 +128,32 @@ int TestTransferFunctionFromProperty(int, char*[])
       "the classes' warning names the count, and there is none without approximation");
   }
   {
+    // HSV interpolation with a colour tolerance: linearised within it, a
+    // proven bound, on intervals with the hue wrapped and not, moved
+    // midpoints, and greys (hue 0).
+    Case c;
+    c.Opacity->AddPoint(0.0, 0.1);
+    c.Opacity->AddPoint(100.0, 0.5);
+    c.Colour->SetColorSpaceToHSV();
+    c.Colour->AddRGBPoint(0.0, 1.0, 0.0, 0.0);
+    c.Colour->AddRGBPoint(20.0, 0.1, 0.2, 1.0, 0.3, 0.0); // the short way: through magenta
+    c.Colour->AddRGBPoint(45.0, 0.9, 0.8, 0.1);
+    c.Colour->AddRGBPoint(60.0, 0.5, 0.5, 0.5, 0.8, 0.0); // a grey
+    c.Colour->AddRGBPoint(100.0, 0.0, 0.6, 0.3);
+    for (double tolerance : { 1e-3, 1e-4, 1e-5 })
+    {
+      int certified = 0;
+      Expect(avos::TransferFunctionFromProperty(
+               c.Property, true, 1.0, c.Function, &c.Approximated, tolerance, &certified)
+               .empty(),
+        "HSV converts with a colour tolerance");
+      Expect(certified == 4 && c.Approximated == 0, "every HSV interval certified");
+      Expect(ColourError(c.Function, c.Colour, -5.0, 105.0) <= tolerance,
+        "HSV colours within the colour tolerance of VTK's");
+      Expect(c.Function.GetKnotValues().size() < 20000, "a bounded number of knots");
+    }
+  }
+  {
     // VTK's rounding above 1 is clamped; a real excess is refused.
     Case c;
     c.Opacity->AddPoint(0.0, 0.0);

@@ -54,6 +54,37 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         rgba = self.mapper.GetRenderedImage().GetPointData().GetScalars()
         return [rgba.GetValue(i) for i in range(rgba.GetNumberOfValues())] if rgba else []
 
+    def test_piecewise_hsv_colour_map_within_tolerance(self):
+        # An HSV rainbow, as ParaView's and VTK's examples set it: the
+        # piecewise method converts it within 0.1 eps of VTK's colours (a
+        # proven bound) and integrates to 0.9 eps, so every pixel is within
+        # eps of the integral of VTK's own function. That integral: the
+        # same method at eps 1e-5 on VTK's function sampled at 4001 RGB
+        # points (linear between them: within 1e-8 of it). The 16-sample
+        # resampling the conversion replaces fails this.
+        hsv = vtkColorTransferFunction()
+        hsv.SetColorSpaceToHSV()
+        hsv.AddRGBPoint(0.0, 0.0, 0.0, 1.0)
+        hsv.AddRGBPoint(0.6, 0.0, 1.0, 0.2, 0.3, 0.0)
+        hsv.AddRGBPoint(1.0, 1.0, 0.0, 0.0)
+        sampled = vtkColorTransferFunction()
+        for i in range(4001):
+            s = i / 4000.0
+            sampled.AddRGBPoint(s, *hsv.GetColor(s))
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        self.mapper.SetTolerance(1e-5)
+        self.prop.SetColor(sampled)
+        reference = self.render()
+        self.assertGreater(max(reference), 0.2)
+        warnings = []
+        self.mapper.AddObserver(vtkCommand.WarningEvent, lambda o, e: warnings.append(e))
+        self.prop.SetColor(hsv)
+        self.mapper.SetTolerance(1e-3)
+        image = self.render()
+        error = max(abs(a - r) for a, r in zip(image, reference))
+        self.assertLessEqual(error, 1e-3 + 1e-5)
+        self.assertEqual(warnings, [], "the HSV colours are certified, not approximated")
+
     def test_adaptive_within_tolerance_of_reference(self):
         self.mapper.SetIntegrationMethodToReference()
         reference = self.render()
