@@ -138,8 +138,13 @@ struct VolumeRaySetup
     {
       return unsupported;
     }
-    const std::string error = TransferFunctionFromProperty(
-      property, extinction, this->Voxel, this->TF, &this->ApproximatedIntervals);
+    // The piecewise method's colours within ColourShare of its eps where
+    // VTK's are not piecewise linear, its rays integrated to the rest.
+    int certified = 0;
+    const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel,
+      this->TF, &this->ApproximatedIntervals,
+      method == RayIntegration::Piecewise ? ColourShare * tolerance : 0.0, &certified);
+    const double integration = tolerance * (certified > 0 ? 1.0 - ColourShare : 1.0);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
@@ -155,7 +160,7 @@ struct VolumeRaySetup
     if (method == RayIntegration::Piecewise)
     {
       const std::string piecesError =
-        this->Pieces.Build(this->TF, avos::numerics::PiecewiseRelativeError(tolerance));
+        this->Pieces.Build(this->TF, avos::numerics::PiecewiseRelativeError(integration));
       if (!piecesError.empty())
       {
         return "the piecewise method cannot use this transfer function at tolerance " +
@@ -172,7 +177,7 @@ struct VolumeRaySetup
     std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
     this->Method = method;
     this->SampleDistance = sampleDistance;
-    this->Settings.Tolerance = tolerance;
+    this->Settings.Tolerance = integration;
     this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
     this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
     return std::string();

@@ -307,6 +307,26 @@ int TestVolumeOnSurfaceMapper(int, char*[])
     mapper->SetVolumeProperty(property);
     mapper->SetIntegrationMethodToLevoy();
   }
+  // An HSV colour map: the piecewise method converts it within a proven
+  // bound (no warning); the Riemann sum's conversion is not certified and
+  // says so.
+  {
+    vtkNew<vtkColorTransferFunction> hsv;
+    hsv->SetColorSpaceToHSV();
+    hsv->AddRGBPoint(0, 0.0, 0.0, 1.0);
+    hsv->AddRGBPoint(600, 1.0, 0.0, 0.0);
+    property->SetColor(hsv);
+    mapper->SetIntegrationMethodToPiecewise();
+    camera->Azimuth(1);
+    window->Render();
+    Expect(errors.None("HSV colours, piecewise"), "an HSV map is certified for the piecewise rays");
+    mapper->SetIntegrationMethodToLevoy();
+    camera->Azimuth(1);
+    window->Render();
+    Expect(errors.CheckWarning("HSV colours, Riemann", "not certified"),
+      "an HSV map is reported approximated for the Riemann rays");
+    property->SetColor(ctf);
+  }
   vtkNew<vtkPolyData> empty;
   mapper->SetInputData(empty);
   window->Render(); // the renderer skips an actor without bounds: ask directly
