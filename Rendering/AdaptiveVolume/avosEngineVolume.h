@@ -14,7 +14,6 @@
 #include "avos/engine/Riemann.h"
 
 #include <array>
-#include <cstddef>
 #include <vector>
 
 class vtkDataArray;
@@ -39,10 +38,6 @@ public:
   /// How the engine reads scalars of a VTK type: 8- and 16-bit integers and
   /// floats as they are (in place), Float32 for the rest (converted).
   static avos::engine::Volume::Type EngineType(int vtkScalarType);
-
-  /// Bytes of scalars this object keeps: the float conversion, 0 for the
-  /// types read in place.
-  std::size_t GetKeptBytes() const { return this->Converted.capacity() * sizeof(float); }
 
 private:
   std::vector<float> Converted;
