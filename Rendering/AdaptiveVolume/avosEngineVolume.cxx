@@ -49,18 +49,22 @@ bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine
 
 avos::engine::Volume::Type EngineVolume::EngineType(int vtkScalarType)
 {
+  using Scalar = avos::engine::ScalarType;
   using Type = avos::engine::Volume::Type;
+  Scalar scalar = Scalar::Float64;
   switch (vtkScalarType)
   {
-    case VTK_UNSIGNED_CHAR:
+    vtkTemplateMacro(scalar = TypeOf<VTK_TT>());
+  }
+  switch (scalar)
+  {
+    case Scalar::UInt8:
       return Type::UInt8;
-    case VTK_UNSIGNED_SHORT:
+    case Scalar::UInt16:
       return Type::UInt16;
-    case VTK_SIGNED_CHAR:
+    case Scalar::Int8:
       return Type::Int8;
-    case VTK_CHAR:
-      return std::is_signed<char>::value ? Type::Int8 : Type::UInt8;
-    case VTK_SHORT:
+    case Scalar::Int16:
       return Type::Int16;
     default:
       return Type::Float32;

@@ -201,6 +201,29 @@ bool AddHSVInterval(double x0, const double* rgb0, double x1, const double* rgb1
   return true;
 }
 
+// A vtkPiecewiseFunction (a gray colour or the opacity) as knots, `add(s,
+// value)` each: exact where VTK interpolates piecewise linearly, resampled
+// where it does not.
+template <typename Add>
+void ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximated)
+{
+  auto addValue = [&](double s, const double* v) { add(s, v[0]); };
+  const int n = f->GetSize();
+  for (int i = 0; i < n; ++i)
+  {
+    double node[4], next[4];
+    f->GetNodeValue(i, node);
+    addValue(node[0], node + 1);
+    if (i + 1 < n)
+    {
+      f->GetNodeValue(i + 1, next);
+      AddInterval<1>(
+        node[0], node + 1, next[0], next + 1, node[2], ShapeOf(node[2], node[3], true), addValue,
+        [f](double s, double* v) { v[0] = f->GetValue(s); }, approximated);
+    }
+  }
+}
+
 // VTK's colour function as knots: exact where VTK interpolates piecewise
 // linearly, resampled where it does not.
 std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int& approximated,
@@ -216,24 +239,14 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
     {
       return "the gray transfer function is empty";
     }
-    auto addGray = [&](double s, const double* v)
-    {
-      const double g = ClampRounding(v[0]);
-      tf.AddColorKnot(s, g, g, g);
-    };
-    for (int i = 0; i < n; ++i)
-    {
-      double node[4], next[4];
-      gray->GetNodeValue(i, node);
-      addGray(node[0], node + 1);
-      if (i + 1 < n)
+    ConvertPiecewise(
+      gray,
+      [&](double s, double v)
       {
-        gray->GetNodeValue(i + 1, next);
-        AddInterval<1>(
-          node[0], node + 1, next[0], next + 1, node[2], ShapeOf(node[2], node[3], true), addGray,
-          [gray](double s, double* v) { v[0] = gray->GetValue(s); }, approximated);
-      }
-    }
+        const double g = ClampRounding(v);
+        tf.AddColorKnot(s, g, g, g);
+      },
+      approximated);
     return std::string();
   }
   vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
@@ -276,20 +289,8 @@ std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf, in
   {
     return "the scalar opacity function is empty";
   }
-  auto add = [&](double s, const double* v) { tf.AddOpacityKnot(s, ClampRounding(v[0])); };
-  for (int i = 0; i < n; ++i)
-  {
-    double node[4], next[4];
-    opacity->GetNodeValue(i, node);
-    add(node[0], node + 1);
-    if (i + 1 < n)
-    {
-      opacity->GetNodeValue(i + 1, next);
-      AddInterval<1>(
-        node[0], node + 1, next[0], next + 1, node[2], ShapeOf(node[2], node[3], true), add,
-        [opacity](double s, double* v) { v[0] = opacity->GetValue(s); }, approximated);
-    }
-  }
+  ConvertPiecewise(
+    opacity, [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); }, approximated);
   return std::string();
 }
 
@@ -342,6 +343,11 @@ std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, bool 
     return "Shading is not supported (emission-absorption model): turn the property's Shade off";
   }
   return std::string();
+}
+
+double avos::IntegrationTolerance(double tolerance, int certifiedIntervals)
+{
+  return tolerance * (certifiedIntervals > 0 ? 1.0 - ColourShare : 1.0);
 }
 
 std::string avos::ApproximationNotice(int approximatedIntervals)

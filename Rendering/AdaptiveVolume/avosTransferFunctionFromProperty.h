@@ -50,6 +50,14 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
 constexpr double ColourShare = 0.1;
 
 /**
+ * The tolerance a class integrates to when its colours were converted
+ * within ColourShare of `tolerance`: the rest where the conversion certified
+ * an interval (`certifiedIntervals` > 0), all of it otherwise.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT double IntegrationTolerance(
+  double tolerance, int certifiedIntervals);
+
+/**
  * The warning for `approximatedIntervals` intervals TransferFunctionFromProperty
  * could not take exactly (a sentence, no final stop), empty for none: the
  * classes say it once per conversion instead of keeping silent.

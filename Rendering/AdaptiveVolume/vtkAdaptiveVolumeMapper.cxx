@@ -558,7 +558,7 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifyTime.Modified();
   }
   internals.IntegrationTolerance =
-    this->Tolerance * (internals.CertifiedIntervals > 0 ? 1.0 - avos::ColourShare : 1.0);
+    avos::IntegrationTolerance(this->Tolerance, internals.CertifiedIntervals);
   return this->UpdatePieces();
 }
 

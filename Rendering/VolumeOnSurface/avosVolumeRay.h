@@ -33,7 +33,6 @@
 #include "avos/numerics/EmptySpace.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
-#include "avos/numerics/Volume.h"
 
 #include <algorithm>
 #include <array>
@@ -42,7 +41,6 @@
 #include <limits>
 #include <mutex>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 namespace avos
@@ -144,7 +142,7 @@ struct VolumeRaySetup
     const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel,
       this->TF, &this->ApproximatedIntervals,
       method == RayIntegration::Piecewise ? ColourShare * tolerance : 0.0, &certified);
-    const double integration = tolerance * (certified > 0 ? 1.0 - ColourShare : 1.0);
+    const double integration = IntegrationTolerance(tolerance, certified);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
@@ -228,39 +226,17 @@ public:
       setup.Method == RayIntegration::Piecewise ? setup.Engine : nullptr);
   }
 
-  // RGBA of the volume from the vertex along `direction` (a unit world
-  // vector: away from the observer for VolumeSide::Behind, towards it for
-  // InFront) to the volume's boundary, at most `maximumLength` world units
-  // long (InFront: the eye's distance, for an eye inside the volume).
-  // A non-empty Error (an overflow: scalars or extinctions beyond double's
-  // range along the ray) comes with a zero RGBA; the classes refuse the
-  // frame or the previsualization then (RayFailures).
-  avos::numerics::RayResult<double> Cast(const glm::dvec3& vertex, const glm::dvec3& direction,
-    double maximumLength = std::numeric_limits<double>::infinity()) const
-  {
-    avos::numerics::RayResult<double> result; // transparent where the ray meets nothing
-    glm::dvec3 origin, march;
-    double D = 0.0;
-    if (this->Span(vertex, direction, maximumLength, origin, march, D))
-    {
-      thread_local std::vector<avos::numerics::Interval<double>> segments;
-      if (this->Setup.Map)
-      {
-        this->Setup.Map->Segments(origin, march, D, avos::engine::SegmentPad, segments);
-      }
-      else
-      {
-        segments.assign(1, { 0.0, D });
-      }
-      this->Integrate(origin, march, D, segments, result);
-    }
-    return result;
-  }
-
-  // results[i] = Cast(vertices[i], directions[i], maximumLengths[i]) for i in
-  // [0, count), the empty-space walk of all the rays done at once, a ray per
-  // SIMD lane (avos::engine::PacketSegments: the same segments to the bit,
-  // about a third of the scalar walk's time per ray).
+  // results[i]: the RGBA of the volume from vertices[i] along directions[i]
+  // (a unit world vector: away from the observer for VolumeSide::Behind,
+  // towards it for InFront) to the volume's boundary, at most
+  // maximumLengths[i] world units long (InFront: the eye's distance, for an
+  // eye inside the volume), for i in [0, count). A non-empty Error (an
+  // overflow: scalars or extinctions beyond double's range along the ray)
+  // comes with a zero RGBA; the classes refuse the frame or the
+  // previsualization then (RayFailures). The empty-space walk of all the
+  // rays is done at once, a ray per SIMD lane (avos::engine::PacketSegments:
+  // the same segments to the bit, about a third of the scalar walk's time
+  // per ray).
   void Cast(std::size_t count, const glm::dvec3* vertices, const glm::dvec3* directions,
     const double* maximumLengths, avos::numerics::RayResult<double>* results) const
   {

@@ -139,21 +139,11 @@ public:
   // for every block before ComputeRanges.
   Real GetMinimum(std::size_t block) const
   {
-    if (!this->Keys.empty())
-    {
-      return Real(this->Keys[2 * block]) - Real(this->KeyOffset);
-    }
-    return this->Floats.empty() ? std::numeric_limits<Real>::infinity()
-                                : Real(this->Floats[2 * block]);
+    return this->Kept(2 * block, std::numeric_limits<Real>::infinity());
   }
   Real GetMaximum(std::size_t block) const
   {
-    if (!this->Keys.empty())
-    {
-      return Real(this->Keys[2 * block + 1]) - Real(this->KeyOffset);
-    }
-    return this->Floats.empty() ? -std::numeric_limits<Real>::infinity()
-                                : Real(this->Floats[2 * block + 1]);
+    return this->Kept(2 * block + 1, -std::numeric_limits<Real>::infinity());
   }
 
   // Bytes of ranges and visibility the map keeps.
@@ -419,6 +409,17 @@ private:
       }
     }
     return nans;
+  }
+
+  // Range entry i (2 block: the minimum, 2 block + 1: the maximum) as kept;
+  // `none` before ComputeRanges.
+  Real Kept(std::size_t i, Real none) const
+  {
+    if (!this->Keys.empty())
+    {
+      return Real(this->Keys[i]) - Real(this->KeyOffset);
+    }
+    return this->Floats.empty() ? none : Real(this->Floats[i]);
   }
 
   // The largest float at or below v, the smallest at or above (infinities
