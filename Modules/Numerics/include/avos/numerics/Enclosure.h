@@ -1,0 +1,488 @@
+// Rigorous enclosures of a function of one variable over an interval:
+// interval arithmetic (Interval) and second-order Taylor jets of intervals
+// (Jet), the tools of a certified bound where a closed form does not exist.
+//
+// An Interval [Lo, Hi] contains every value the quantity takes. Each
+// operation widens its result outward by a few units in the last place, so
+// that the rounding of Real (at most half an ulp for + - * / and sqrt, a few
+// ulps for the library's pow, log, sin and cos) cannot move a true value out
+// of it. Empty results and divisions by an interval holding 0 give the whole
+// line (infinite ends): a later bound is then infinite or NaN, and callers
+// treat a bound that is not finite as "not proven".
+//
+// A Jet of f over X holds enclosures of f(X), f'(X) and f''(X) (Smooth), or
+// only of f(X) where f may have a kink or a jump in X (Smooth false: Rough).
+// Arithmetic follows the product, quotient and chain rules pointwise, so
+// every enclosure stays valid over all of X.
+#ifndef avos_numerics_Enclosure_h
+#define avos_numerics_Enclosure_h
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace avos
+{
+namespace numerics
+{
+
+template <typename Real>
+struct Interval
+{
+  Real Lo = Real(0);
+  Real Hi = Real(0);
+
+  Interval() = default;
+  Interval(Real v)
+    : Lo(v)
+    , Hi(v)
+  {
+  }
+  Interval(Real lo, Real hi)
+    : Lo(lo)
+    , Hi(hi)
+  {
+  }
+
+  Real Width() const { return this->Hi - this->Lo; }
+  Real Magnitude() const { return std::max(std::abs(this->Lo), std::abs(this->Hi)); }
+  bool Contains(Real v) const { return v >= this->Lo && v <= this->Hi; }
+
+  static Interval Whole()
+  {
+    const Real inf = std::numeric_limits<Real>::infinity();
+    return Interval(-inf, inf);
+  }
+
+  // [lo, hi] widened by `ulps` units of the larger end's magnitude.
+  static Interval Outward(Real lo, Real hi, int ulps = 2)
+  {
+    if (!(lo <= hi))
+    {
+      return Whole();
+    }
+    const Real e = std::numeric_limits<Real>::epsilon() * ulps;
+    const Real tiny = std::numeric_limits<Real>::min();
+    return Interval(lo - e * std::abs(lo) - tiny, hi + e * std::abs(hi) + tiny);
+  }
+};
+
+template <typename Real>
+Interval<Real> Hull(const Interval<Real>& a, const Interval<Real>& b)
+{
+  return Interval<Real>(std::min(a.Lo, b.Lo), std::max(a.Hi, b.Hi));
+}
+
+template <typename Real>
+Interval<Real> operator+(const Interval<Real>& a, const Interval<Real>& b)
+{
+  return Interval<Real>::Outward(a.Lo + b.Lo, a.Hi + b.Hi);
+}
+
+template <typename Real>
+Interval<Real> operator-(const Interval<Real>& a)
+{
+  return Interval<Real>(-a.Hi, -a.Lo);
+}
+
+template <typename Real>
+Interval<Real> operator-(const Interval<Real>& a, const Interval<Real>& b)
+{
+  return Interval<Real>::Outward(a.Lo - b.Hi, a.Hi - b.Lo);
+}
+
+template <typename Real>
+Interval<Real> operator*(const Interval<Real>& a, const Interval<Real>& b)
+{
+  const Real p[4] = { a.Lo * b.Lo, a.Lo * b.Hi, a.Hi * b.Lo, a.Hi * b.Hi };
+  return Interval<Real>::Outward(*std::min_element(p, p + 4), *std::max_element(p, p + 4));
+}
+
+template <typename Real>
+Interval<Real> operator/(const Interval<Real>& a, const Interval<Real>& b)
+{
+  if (!(b.Lo > Real(0) || b.Hi < Real(0)))
+  {
+    return Interval<Real>::Whole();
+  }
+  const Real q[4] = { a.Lo / b.Lo, a.Lo / b.Hi, a.Hi / b.Lo, a.Hi / b.Hi };
+  return Interval<Real>::Outward(*std::min_element(q, q + 4), *std::max_element(q, q + 4));
+}
+
+// x^2, tighter than x * x when x holds 0.
+template <typename Real>
+Interval<Real> Square(const Interval<Real>& x)
+{
+  const Real a = x.Lo * x.Lo, b = x.Hi * x.Hi;
+  const Real lo = x.Contains(Real(0)) ? Real(0) : std::min(a, b);
+  return Interval<Real>::Outward(lo, std::max(a, b));
+}
+
+// x^p for x >= 0 (the part of x below 0 is dropped), any real p: monotone in
+// x, increasing for p > 0, decreasing for p < 0.
+template <typename Real>
+Interval<Real> Pow(const Interval<Real>& x, Real p)
+{
+  const Real lo = std::max(x.Lo, Real(0)), hi = std::max(x.Hi, Real(0));
+  if (p == Real(0))
+  {
+    return Interval<Real>(Real(1));
+  }
+  const Real a = std::pow(lo, p), b = std::pow(hi, p);
+  return Interval<Real>::Outward(std::min(a, b), std::max(a, b), 8);
+}
+
+// The natural logarithm, for x > 0.
+template <typename Real>
+Interval<Real> Log(const Interval<Real>& x)
+{
+  if (!(x.Lo > Real(0)))
+  {
+    return Interval<Real>::Whole();
+  }
+  return Interval<Real>::Outward(std::log(x.Lo), std::log(x.Hi), 8);
+}
+
+// cos over x: the ends, and 1 or -1 where x holds a multiple of pi.
+template <typename Real>
+Interval<Real> Cos(const Interval<Real>& x)
+{
+  const Real pi = Real(3.141592653589793238462643383279502884L);
+  if (!(x.Width() < Real(2) * pi))
+  {
+    return Interval<Real>(Real(-1), Real(1));
+  }
+  const Real a = std::cos(x.Lo), b = std::cos(x.Hi);
+  Real lo = std::min(a, b), hi = std::max(a, b);
+  // The multiples k pi in x (k even: a maximum, odd: a minimum), with the
+  // rounding of x / pi taken outward.
+  const Real first = std::ceil(x.Lo / pi - Real(1e-12)), last = std::floor(x.Hi / pi + Real(1e-12));
+  for (Real k = first; k <= last; k += Real(1))
+  {
+    if (static_cast<long long>(k) % 2 == 0)
+    {
+      hi = Real(1);
+    }
+    else
+    {
+      lo = Real(-1);
+    }
+  }
+  return Interval<Real>::Outward(std::max(lo, Real(-1)), std::min(hi, Real(1)), 8);
+}
+
+template <typename Real>
+Interval<Real> Sin(const Interval<Real>& x)
+{
+  const Real halfPi = Real(1.570796326794896619231321691639751442L);
+  // sin x = cos(x - pi/2); the shift's rounding is taken outward.
+  return Cos(Interval<Real>::Outward(x.Lo - halfPi, x.Hi - halfPi));
+}
+
+// Intersection of two enclosures of one quantity; where rounding leaves
+// them disjoint, the first is kept (both are valid, neither is preferred).
+template <typename Real>
+Interval<Real> Intersect(const Interval<Real>& a, const Interval<Real>& b)
+{
+  const Real lo = std::max(a.Lo, b.Lo), hi = std::min(a.Hi, b.Hi);
+  return lo <= hi ? Interval<Real>(lo, hi) : a;
+}
+
+template <typename Real>
+struct Jet
+{
+  Interval<Real> V;  // f(X)
+  Interval<Real> D1; // f'(X), when Smooth
+  Interval<Real> D2; // f''(X), when Smooth
+  bool Smooth = true;
+  // f(c) and f'(c) at X's centre c, and X's radius r about it, where known
+  // (Centred): they give the mean-value forms f(X) in f(c) + f'(c) [-r, r]
+  // + f''(X) [0, r^2 / 2] and f'(X) in f'(c) + f''(X) [-r, r], which keep
+  // the enclosures of a long chain of operations within O(r) of the
+  // range instead of growing with every use of the variable.
+  Interval<Real> F, F1;
+  Real Radius = Real(0);
+  bool Centred = true;
+
+  Jet() = default;
+  // A constant.
+  Jet(Real c)
+    : V(c)
+    , D1(Real(0))
+    , D2(Real(0))
+    , F(c)
+    , F1(Real(0))
+  {
+  }
+
+  // The variable itself over X.
+  static Jet Variable(const Interval<Real>& x)
+  {
+    Jet j;
+    j.V = x;
+    j.D1 = j.F1 = Interval<Real>(Real(1));
+    j.D2 = Interval<Real>(Real(0));
+    const Real c = x.Lo + (x.Hi - x.Lo) / Real(2);
+    j.F = Interval<Real>(c);
+    j.Radius = Interval<Real>::Outward(Real(0), std::max(c - x.Lo, x.Hi - c)).Hi;
+    return j;
+  }
+  // A function known only to stay within v over X.
+  static Jet Rough(const Interval<Real>& v)
+  {
+    Jet j;
+    j.V = v;
+    j.D1 = j.D2 = Interval<Real>::Whole();
+    j.Smooth = j.Centred = false;
+    return j;
+  }
+
+  // Tightens V and D1 by the mean-value forms.
+  Jet& Tighten()
+  {
+    if (this->Smooth && this->Centred)
+    {
+      const Interval<Real> r(-this->Radius, this->Radius);
+      const Interval<Real> half(Real(0), this->Radius * this->Radius / Real(2));
+      this->V = Intersect(this->V, this->F + this->F1 * r + this->D2 * half);
+      this->D1 = Intersect(this->D1, this->F1 + this->D2 * r);
+    }
+    return *this;
+  }
+};
+
+namespace detail
+{
+// The common part of a binary operation's result.
+template <typename Real>
+Jet<Real> Combine(const Jet<Real>& a, const Jet<Real>& b)
+{
+  Jet<Real> j;
+  j.Smooth = a.Smooth && b.Smooth;
+  j.Centred = j.Smooth && a.Centred && b.Centred;
+  j.Radius = std::max(a.Radius, b.Radius);
+  return j;
+}
+} // namespace detail
+
+template <typename Real>
+Jet<Real> operator+(const Jet<Real>& a, const Jet<Real>& b)
+{
+  Jet<Real> j = detail::Combine(a, b);
+  j.V = a.V + b.V;
+  j.D1 = a.D1 + b.D1;
+  j.D2 = a.D2 + b.D2;
+  j.F = a.F + b.F;
+  j.F1 = a.F1 + b.F1;
+  return j.Tighten();
+}
+
+template <typename Real>
+Jet<Real> operator-(const Jet<Real>& a)
+{
+  Jet<Real> j = a;
+  j.V = -a.V;
+  j.D1 = -a.D1;
+  j.D2 = -a.D2;
+  j.F = -a.F;
+  j.F1 = -a.F1;
+  return j;
+}
+
+template <typename Real>
+Jet<Real> operator-(const Jet<Real>& a, const Jet<Real>& b)
+{
+  return a + (-b);
+}
+
+template <typename Real>
+Jet<Real> operator*(const Jet<Real>& a, const Jet<Real>& b)
+{
+  // (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
+  const Interval<Real> two(Real(2));
+  Jet<Real> j = detail::Combine(a, b);
+  j.V = a.V * b.V;
+  j.D1 = a.D1 * b.V + a.V * b.D1;
+  j.D2 = a.D2 * b.V + two * a.D1 * b.D1 + a.V * b.D2;
+  j.F = a.F * b.F;
+  j.F1 = a.F1 * b.F + a.F * b.F1;
+  return j.Tighten();
+}
+
+template <typename Real>
+Jet<Real> operator/(const Jet<Real>& a, const Jet<Real>& b)
+{
+  // q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b.
+  const Interval<Real> two(Real(2));
+  Jet<Real> j = detail::Combine(a, b);
+  j.V = a.V / b.V;
+  j.D1 = (a.D1 - j.V * b.D1) / b.V;
+  j.D2 = (a.D2 - two * j.D1 * b.D1 - j.V * b.D2) / b.V;
+  j.F = a.F / b.F;
+  j.F1 = (a.F1 - j.F * b.F1) / b.F;
+  return j.Tighten();
+}
+
+// With a constant on either side.
+template <typename Real>
+Jet<Real> operator+(const Jet<Real>& a, Real c)
+{
+  return a + Jet<Real>(c);
+}
+
+template <typename Real>
+Jet<Real> operator+(Real c, const Jet<Real>& a)
+{
+  return Jet<Real>(c) + a;
+}
+
+template <typename Real>
+Jet<Real> operator-(const Jet<Real>& a, Real c)
+{
+  return a - Jet<Real>(c);
+}
+
+template <typename Real>
+Jet<Real> operator-(Real c, const Jet<Real>& a)
+{
+  return Jet<Real>(c) - a;
+}
+
+template <typename Real>
+Jet<Real> operator*(Real c, const Jet<Real>& a)
+{
+  return Jet<Real>(c) * a;
+}
+
+template <typename Real>
+Jet<Real> operator*(const Jet<Real>& a, Real c)
+{
+  return a * Jet<Real>(c);
+}
+
+template <typename Real>
+Jet<Real> operator/(const Jet<Real>& a, Real c)
+{
+  return a / Jet<Real>(c);
+}
+
+// g(a) by the chain rule: (g o a)' = g'(a) a', (g o a)'' = g''(a) a'^2 +
+// g'(a) a''. `g(v, value, slope, curvature)` fills enclosures of g, g' and
+// g'' over the values v (called for a's values and for its centre value).
+template <typename Real, typename G>
+Jet<Real> Compose(const Jet<Real>& a, G&& g)
+{
+  Interval<Real> g0, g1, g2;
+  g(a.V, g0, g1, g2);
+  Jet<Real> j = a;
+  j.V = g0;
+  j.D1 = g1 * a.D1;
+  j.D2 = g2 * Square(a.D1) + g1 * a.D2;
+  if (j.Centred)
+  {
+    Interval<Real> c1, c2;
+    g(a.F, j.F, c1, c2);
+    j.F1 = c1 * a.F1;
+  }
+  return j.Tighten();
+}
+
+// a^p for a >= 0 over X (p real); where p < 2 and a reaches 0 the second
+// derivative is unbounded and the enclosure says so (infinite ends).
+template <typename Real>
+Jet<Real> Pow(const Jet<Real>& a, Real p)
+{
+  return Compose(a,
+    [p](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    {
+      g0 = Pow(v, p);
+      g1 = Interval<Real>(p) * Pow(v, p - Real(1));
+      g2 = Interval<Real>(p * (p - Real(1))) * Pow(v, p - Real(2));
+    });
+}
+
+template <typename Real>
+Jet<Real> Log(const Jet<Real>& a)
+{
+  return Compose(a,
+    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    {
+      g0 = Log(v);
+      g1 = Interval<Real>(Real(1)) / v;
+      g2 = -Square(g1);
+    });
+}
+
+template <typename Real>
+Jet<Real> Cos(const Jet<Real>& a)
+{
+  return Compose(a,
+    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    {
+      g0 = Cos(v);
+      g1 = -Sin(v);
+      g2 = -g0;
+    });
+}
+
+template <typename Real>
+Jet<Real> Sin(const Jet<Real>& a)
+{
+  return Compose(a,
+    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    {
+      g0 = Sin(v);
+      g1 = Cos(v);
+      g2 = -g0;
+    });
+}
+
+// A function defined by cases: below(x) where x <= threshold, above(x) where
+// x > threshold (as `x > threshold ? above : below`). Where X's values fall
+// on both sides (within a relative guard of 1e-12 of the threshold, so that
+// the rounding of the caller's own comparison cannot pick a case the
+// enclosure did not take), the result is Rough: the hull of both cases, each
+// over its part of the values. `below` and `above` take and return Jets.
+template <typename Real, typename Below, typename Above>
+Jet<Real> Cases(const Jet<Real>& x, Real threshold, Below&& below, Above&& above)
+{
+  const Real guard = Real(1e-12) * std::max(std::abs(threshold), Real(1e-300));
+  if (x.V.Lo > threshold + guard)
+  {
+    return above(x);
+  }
+  if (x.V.Hi < threshold - guard)
+  {
+    return below(x);
+  }
+  // Each case over its part of the values (its centre unknown there).
+  Jet<Real> low = x, high = x;
+  low.V.Hi = std::min(x.V.Hi, threshold + guard);
+  high.V.Lo = std::max(x.V.Lo, threshold - guard);
+  low.Centred = high.Centred = false;
+  return Jet<Real>::Rough(Hull(below(low).V, above(high).V));
+}
+
+// The same on plain numbers, so that one templated model evaluates both.
+template <typename Below, typename Above>
+double Cases(double x, double threshold, Below&& below, Above&& above)
+{
+  return x > threshold ? above(x) : below(x);
+}
+
+// The value-only bound of a Jet: the widest of f'' over X times w^2 / 8
+// (the chord's error on an interval of width w, Smooth) or the width of
+// f(X) (any function whose chord ends lie in f(X)).
+template <typename Real>
+Real ChordErrorBound(const Jet<Real>& f, Real width)
+{
+  if (f.Smooth)
+  {
+    return std::min(f.D2.Magnitude() * width * width / Real(8), f.V.Width());
+  }
+  return f.V.Width();
+}
+} // namespace numerics
+} // namespace avos
+
+#endif
