@@ -1,5 +1,9 @@
 #include "avosTransferFunctionFromProperty.h"
 
+#include "avosNodeInterpolation.h"
+
+#include "avos/numerics/Linearization.h"
+
 #include "vtkColorTransferFunction.h"
 #include "vtkMath.h"
 #include "vtkPiecewiseFunction.h"
@@ -41,8 +45,10 @@ double ClampRounding(double v)
 // (linear in x': piecewise linear in x, a kink at m), one above 0.99 makes
 // a step at x' = 0.5 (the first value below m, the second from m on, in
 // any colour space), and any other a Hermite curve in x'. The first three
-// are piecewise linear and taken exactly; a Hermite curve, and a
-// non-stepped interval in HSV, Lab or Diverging space, are not (Curved).
+// are piecewise linear and taken exactly; a Hermite curve, a non-stepped
+// interval in HSV, Lab or Diverging space, and any interval on a log scale
+// are not (Curved). `linearSpace`: RGB (or a piecewise function) on a
+// linear scale.
 enum class Shape
 {
   Linear,
@@ -65,16 +71,32 @@ Shape ShapeOf(double midpoint, double sharpness, bool linearSpace)
   return midpoint == 0.5 ? Shape::Linear : Shape::Kink;
 }
 
-// The knots of one node interval [x0, x1) after the node's own: the exact
-// ones of a kink or a step, or samples of VTK's function where it is curved
-// (`value(s, out)` evaluates it; `approximated` counts such intervals).
-template <int Channels, typename Add, typename Value>
-void AddInterval(double x0, const double* v0, double x1, const double* v1, double midpoint,
-  Shape shape, Add&& add, Value&& value, int& approximated)
+// VTK keeps the midpoint off the interval's ends.
+double ClampMidpoint(double midpoint)
 {
-  // VTK keeps the midpoint off the interval's ends.
-  const double m = std::min(std::max(midpoint, 0.00001), 0.99999);
-  const double xm = x0 + m * (x1 - x0);
+  return std::min(std::max(midpoint, 0.00001), 0.99999);
+}
+
+// The scalar at the (clamped) midpoint m of [x0, x1]: where the bent
+// position is 0.5, in log10 x on a log scale.
+double MidpointScalar(double x0, double x1, double m, bool logScale)
+{
+  if (logScale)
+  {
+    const double l0 = std::log10(x0), l1 = std::log10(x1);
+    return std::min(std::max(std::pow(10.0, l0 + m * (l1 - l0)), x0), x1);
+  }
+  return x0 + m * (x1 - x0);
+}
+
+// The knots of one node interval [x0, x1) after the node's own: the exact
+// ones of a kink or a step (at xm, the midpoint's scalar), or samples of
+// VTK's function where it is curved (`value(s, out)` evaluates it;
+// `approximated` counts such intervals).
+template <int Channels, typename Add, typename Value>
+void AddInterval(double x0, const double* v0, double x1, const double* v1, double xm, Shape shape,
+  Add&& add, Value&& value, int& approximated)
+{
   double mean[Channels];
   for (int c = 0; c < Channels; ++c)
   {
@@ -104,150 +126,292 @@ void AddInterval(double x0, const double* v0, double x1, const double* v1, doubl
   }
 }
 
-// The knots of one node interval [x0, x1) of an HSV colour function with a
-// sharpness below 0.01, after the node's own, within `tolerance` of VTK's
-// colours (a proven bound). VTK interpolates h, s and v linearly in the
-// midpoint-bent position x' (the hue the short way round when HSVWrap is
-// on, then back into [0, 1)) and converts to RGB by vtkMath::HSVToRGB, where
-// each channel is v (1 - s + s g(h)) with g linear between multiples of 1/6
-// of the hue: between those breakpoints, the bend and the wrap, each channel
-// is a cubic in x. On such a part of width w a cubic's second derivative is
-// linear, so its largest |p''| is at an end (M2, from the cubic through four
-// equally spaced values, plus their rounding's share), and n equal linear
-// pieces with (w / n)^2 M2 / 8 <= tolerance / 2 stay within tolerance / 2 of
-// it. False (nothing added) when a part would need more than MaximumKnots.
-constexpr int MaximumKnots = 4096;
+// The certified conversion of a curved colour interval: knots within
+// `tolerance` of VTK's colours (a proven bound, numerics::Linearize against
+// the model of avosNodeInterpolation.h), at most MaximumKnots per half.
+constexpr std::size_t MaximumKnots = 4096;
 
-template <typename Add>
-bool AddHSVInterval(double x0, const double* rgb0, double x1, const double* rgb1, double midpoint,
-  bool wrap, double tolerance, Add&& add)
+// VTK's own values differ from the model's exact function by their
+// rounding (a few ulps through the colour-space conversions, 1e-13 at most
+// for colours in [0, 1]) and by ClampRounding (RoundingTolerance).
+constexpr double ReferenceSlack = 2.0 * RoundingTolerance;
+
+// Moreland's Msh coordinates of an L*a*b* colour (as VTK's diverging map).
+void LabToMsh(const double lab[3], double msh[3])
 {
-  double h0[3], h1[3];
-  vtkMath::RGBToHSV(rgb0, h0);
-  vtkMath::RGBToHSV(rgb1, h1);
-  if (wrap && std::abs(h1[0] - h0[0]) > 0.5)
+  msh[0] = std::sqrt(lab[0] * lab[0] + lab[1] * lab[1] + lab[2] * lab[2]);
+  msh[1] = msh[0] > 0.001 ? std::acos(lab[0] / msh[0]) : 0.0;
+  msh[2] = msh[1] > 0.001 ? std::atan2(lab[2], lab[1]) : 0.0;
+}
+
+// The smaller angle between two hues.
+double HueDistance(double a, double b)
+{
+  const double twoPi = 2.0 * vtkMath::Pi();
+  double d = std::abs(a - b);
+  while (d >= twoPi)
   {
-    (h0[0] > h1[0] ? h0[0] : h1[0]) -= 1.0;
+    d -= twoPi;
   }
-  const double m = std::min(std::max(midpoint, 0.00001), 0.99999);
-  const double xm = x0 + m * (x1 - x0);
-  // x' (0 to 1, 0.5 at the midpoint) to x, and the colour at x'.
-  auto toX = [&](double t)
-  { return t < 0.5 ? x0 + 2.0 * t * (xm - x0) : xm + (2.0 * t - 1.0) * (x1 - xm); };
-  auto colourAt = [&](double t, double* rgb)
+  return d > vtkMath::Pi() ? twoPi - d : d;
+}
+
+// The hue an unsaturated end of magnitude m takes towards a saturated one,
+// spun so that the perceived change stays about constant (Moreland 2009).
+double AdjustedHue(const double saturated[3], double m)
+{
+  if (saturated[0] >= m - 0.1)
   {
-    double hsv[3];
-    for (int k = 0; k < 3; ++k)
+    return saturated[2];
+  }
+  const double spin = saturated[1] * std::sqrt(m * m - saturated[0] * saturated[0]) /
+    (saturated[0] * std::sin(saturated[1]));
+  return saturated[2] > -0.3 * vtkMath::Pi() ? saturated[2] + spin : saturated[2] - spin;
+}
+
+// The ends of a diverging interval in Msh, through white between distinct
+// saturated colours (each half then its own pair of ends).
+void DivergingEnds(const double rgb1[3], const double rgb2[3], avos::NodeInterpolation& n)
+{
+  double lab[2][3], msh[2][3];
+  vtkMath::RGBToLab(rgb1, lab[0]);
+  vtkMath::RGBToLab(rgb2, lab[1]);
+  LabToMsh(lab[0], msh[0]);
+  LabToMsh(lab[1], msh[1]);
+  n.Halves = msh[0][1] > 0.05 && msh[1][1] > 0.05 &&
+    HueDistance(msh[0][2], msh[1][2]) > 0.33 * vtkMath::Pi();
+  const double white[3] = { std::max(88.0, std::max(msh[0][0], msh[1][0])), 0.0, 0.0 };
+  for (int half = 0; half < 2; ++half)
+  {
+    double(&ends)[2][3] = n.Ends[half];
+    std::copy(n.Halves && half == 1 ? white : msh[0], (n.Halves && half == 1 ? white : msh[0]) + 3,
+      ends[0]);
+    std::copy(n.Halves && half == 0 ? white : msh[1], (n.Halves && half == 0 ? white : msh[1]) + 3,
+      ends[1]);
+    if (ends[0][1] < 0.05 && ends[1][1] > 0.05)
     {
-      hsv[k] = h0[k] + t * (h1[k] - h0[k]);
+      ends[0][2] = AdjustedHue(ends[1], ends[0][0]);
     }
-    hsv[0] += hsv[0] < 0.0 ? 1.0 : 0.0;
-    vtkMath::HSVToRGB(hsv, rgb);
-  };
-  std::vector<double> breaks{ 0.0, 0.5, 1.0 };
-  for (int k = -6; k <= 6 && h1[0] != h0[0]; ++k)
-  {
-    const double t = (k / 6.0 - h0[0]) / (h1[0] - h0[0]);
-    if (t > 0.0 && t < 1.0)
+    else if (ends[1][1] < 0.05 && ends[0][1] > 0.05)
     {
-      breaks.push_back(t);
+      ends[1][2] = AdjustedHue(ends[0], ends[1][0]);
     }
   }
-  std::sort(breaks.begin(), breaks.end());
-  std::vector<std::pair<double, std::array<double, 3>>> knots;
-  for (std::size_t b = 0; b + 1 < breaks.size(); ++b)
+}
+
+// The model of VTK's colour between two nodes; false for a colour space it
+// does not model (CIEDE2000).
+bool ModelInterval(vtkColorTransferFunction* color, const double* node, const double* next,
+  bool logScale, avos::NodeInterpolation& n)
+{
+  n.X1 = node[0];
+  n.X2 = next[0];
+  n.LogScale = logScale;
+  n.Midpoint = ClampMidpoint(node[4]);
+  n.Sharpness = node[5];
+  const double* rgb[2] = { node + 1, next + 1 };
+  double ends[2][3];
+  switch (color->GetColorSpace())
   {
-    const double ta = breaks[b], tb = breaks[b + 1];
-    if (!(tb > ta))
-    {
-      continue;
-    }
-    const double w = toX(tb) - toX(ta);
-    double f[4][3];
-    for (int j = 0; j < 4; ++j)
-    {
-      colourAt(ta + (tb - ta) * j / 3.0, f[j]);
-    }
-    // |p''| at both ends of the cubic through the four values, h = w / 3,
-    // and what rounding of the values (a few ulps of 1) can add to it.
-    const double h = w / 3.0;
-    double m2 = 0.0;
-    for (int c = 0; c < 3; ++c)
-    {
-      const double a = 2 * f[0][c] - 5 * f[1][c] + 4 * f[2][c] - f[3][c];
-      const double e = -f[0][c] + 4 * f[1][c] - 5 * f[2][c] + 2 * f[3][c];
-      m2 = std::max(m2, std::max(std::abs(a), std::abs(e)) / (h * h));
-    }
-    m2 += 12.0 * 4.0 * std::numeric_limits<double>::epsilon() / (h * h);
-    const double pieces = std::ceil(w * std::sqrt(m2 / (4.0 * tolerance)));
-    if (!(pieces <= MaximumKnots))
-    {
+    case VTK_CTF_RGB:
+      n.Space = avos::InterpolationSpace::RGB;
+      std::copy(rgb[0], rgb[0] + 3, ends[0]);
+      std::copy(rgb[1], rgb[1] + 3, ends[1]);
+      break;
+    case VTK_CTF_HSV:
+      n.Space = avos::InterpolationSpace::HSV;
+      vtkMath::RGBToHSV(rgb[0], ends[0]);
+      vtkMath::RGBToHSV(rgb[1], ends[1]);
+      if (color->GetHSVWrap() && std::abs(ends[1][0] - ends[0][0]) > 0.5)
+      {
+        (ends[0][0] > ends[1][0] ? ends[0][0] : ends[1][0]) -= 1.0;
+      }
+      break;
+    case VTK_CTF_LAB:
+      n.Space = avos::InterpolationSpace::Lab;
+      vtkMath::RGBToLab(rgb[0], ends[0]);
+      vtkMath::RGBToLab(rgb[1], ends[1]);
+      break;
+    case VTK_CTF_DIVERGING:
+      n.Space = avos::InterpolationSpace::Diverging;
+      DivergingEnds(rgb[0], rgb[1], n);
+      return true;
+    default:
       return false;
-    }
-    const int n = std::max(1, static_cast<int>(pieces));
-    for (int k = 1; k <= n; ++k)
-    {
-      const double t = ta + (tb - ta) * k / n;
-      std::array<double, 3> rgb;
-      colourAt(t, rgb.data());
-      knots.push_back({ toX(t), rgb });
-    }
   }
-  knots.pop_back(); // the next node's own
-  for (const auto& k : knots)
+  for (int half = 0; half < 2; ++half)
   {
-    add(k.first, k.second.data());
+    std::copy(&ends[0][0], &ends[0][0] + 6, &n.Ends[half][0][0]);
   }
   return true;
 }
 
-// A vtkPiecewiseFunction (a gray colour or the opacity) as knots, `add(s,
-// value)` each: exact where VTK interpolates piecewise linearly, resampled
-// where it does not.
-template <typename Add>
-void ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximated)
+// The scalar ranges where VTK's opacity is 0 (between two nodes of opacity
+// 0, whatever their curve, and beyond an end node of opacity 0, or beyond
+// the nodes without clamping). The colour there changes no pixel: emission
+// and projections are weighted by the opacity, so the conversion needs no
+// accuracy there.
+using Ranges = std::vector<std::pair<double, double>>;
+
+Ranges TransparentRanges(vtkPiecewiseFunction* opacity)
 {
-  auto addValue = [&](double s, const double* v) { add(s, v[0]); };
-  const int n = f->GetSize();
+  Ranges ranges;
+  const int n = opacity ? opacity->GetSize() : 0;
+  const double inf = std::numeric_limits<double>::infinity();
+  double node[4], previous[4] = { 0.0, 1.0, 0.0, 0.0 };
   for (int i = 0; i < n; ++i)
   {
-    double node[4], next[4];
+    opacity->GetNodeValue(i, node);
+    const bool clear = node[1] == 0.0;
+    if (i == 0 && (clear || !opacity->GetClamping()))
+    {
+      ranges.push_back({ -inf, node[0] });
+    }
+    if (i > 0 && clear && previous[1] == 0.0)
+    {
+      if (!ranges.empty() && ranges.back().second == previous[0])
+      {
+        ranges.back().second = node[0];
+      }
+      else
+      {
+        ranges.push_back({ previous[0], node[0] });
+      }
+    }
+    if (i + 1 == n && (clear || !opacity->GetClamping()))
+    {
+      if (!ranges.empty() && ranges.back().second == node[0])
+      {
+        ranges.back().second = inf;
+      }
+      else
+      {
+        ranges.push_back({ node[0], inf });
+      }
+    }
+    std::copy(node, node + 4, previous);
+  }
+  return ranges;
+}
+
+// Knots for a curved colour interval, within `tolerance` of VTK's colours,
+// from its limit at the node to its value at the next (both may differ from
+// the nodes' own colours by the colour-space round trip): each side of the
+// midpoint's scalar xm (where the model has a kink) linearized on its own.
+// False, with nothing added, where the bound cannot be certified. Inside
+// the `transparent` ranges the colour takes one chord.
+template <typename Add>
+bool AddCertifiedInterval(vtkColorTransferFunction* color, const double* node, const double* next,
+  bool logScale, double xm, double tolerance, const Ranges& transparent, Add&& add)
+{
+  avos::NodeInterpolation n;
+  if (!ModelInterval(color, node, next, logScale, n))
+  {
+    return false;
+  }
+  using Jet = avos::numerics::Jet<double>;
+  auto enclose = [&n](const avos::numerics::Interval<double>& x)
+  {
+    Jet rgb[3];
+    avos::interpolation::Evaluate(n, Jet::Variable(x), rgb);
+    return std::array<Jet, 3>{ rgb[0], rgb[1], rgb[2] };
+  };
+  // VTK's colour, at X1 the limit from the right (VTK gives the node's own
+  // colour there, which the conversion round trip may move by 1e-4).
+  auto value = [color, &n](double x)
+  {
+    std::array<double, 3> rgb;
+    color->GetColor(x == n.X1 ? std::nextafter(n.X1, n.X2) : x, rgb.data());
+    for (double& c : rgb)
+    {
+      c = ClampRounding(c);
+    }
+    return rgb;
+  };
+  auto exempt = [&transparent](double l, double r)
+  {
+    return std::any_of(transparent.begin(), transparent.end(),
+      [l, r](const std::pair<double, double>& t) { return t.first <= l && r <= t.second; });
+  };
+  std::vector<avos::numerics::LinearKnot<double, 3>> knots;
+  if (!avos::numerics::Linearize(
+        node[0], xm, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt) ||
+    !avos::numerics::Linearize(
+      xm, next[0], tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt))
+  {
+    return false;
+  }
+  add(node[0], value(node[0]).data());
+  for (const auto& k : knots)
+  {
+    add(k.X, k.Value.data());
+  }
+  return true;
+}
+// A vtkPiecewiseFunction (a gray colour or the opacity) as knots, `add(s,
+// value)` each: exact where VTK interpolates piecewise linearly, resampled
+// where it does not; 0 outside the nodes without clamping. Returns why it
+// cannot be used, or an empty string.
+template <typename Add>
+std::string ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximated)
+{
+  auto addValue = [&](double s, const double* v) { add(s, v[0]); };
+  const int n = f ? f->GetSize() : 0;
+  if (n == 0)
+  {
+    return "is empty";
+  }
+  const bool logScale = f->GetUseLogScale() != 0;
+  if (logScale && !(f->GetRange()[0] > 0.0))
+  {
+    return "has a log scale and a node at or below 0";
+  }
+  double node[4], next[4];
+  f->GetNodeValue(0, node);
+  if (!f->GetClamping() && node[1] != 0.0)
+  {
+    add(node[0], 0.0);
+  }
+  for (int i = 0; i < n; ++i)
+  {
     f->GetNodeValue(i, node);
     addValue(node[0], node + 1);
     if (i + 1 < n)
     {
       f->GetNodeValue(i + 1, next);
       AddInterval<1>(
-        node[0], node + 1, next[0], next + 1, node[2], ShapeOf(node[2], node[3], true), addValue,
+        node[0], node + 1, next[0], next + 1,
+        MidpointScalar(node[0], next[0], ClampMidpoint(node[2]), logScale),
+        ShapeOf(node[2], node[3], !logScale), addValue,
         [f](double s, double* v) { v[0] = f->GetValue(s); }, approximated);
     }
   }
+  if (!f->GetClamping() && node[1] != 0.0)
+  {
+    add(node[0], 0.0);
+  }
+  return std::string();
 }
 
 // VTK's colour function as knots: exact where VTK interpolates piecewise
-// linearly, resampled where it does not.
+// linearly, certified within colourTolerance (when positive) where it does
+// not (wherever the opacity is not 0), resampled otherwise. Outside the
+// nodes, what VTK gives there: the end colours, the below- and above-range
+// colours, or black without clamping.
 std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int& approximated,
   double colourTolerance, int& certified)
 {
-  auto addColour = [&](double s, const double* rgb)
-  { tf.AddColorKnot(s, ClampRounding(rgb[0]), ClampRounding(rgb[1]), ClampRounding(rgb[2])); };
   if (property->GetColorChannels(0) == 1)
   {
-    vtkPiecewiseFunction* gray = property->GetGrayTransferFunction(0);
-    const int n = gray ? gray->GetSize() : 0;
-    if (n == 0)
-    {
-      return "the gray transfer function is empty";
-    }
-    ConvertPiecewise(
-      gray,
+    const std::string error = ConvertPiecewise(
+      property->GetGrayTransferFunction(0),
       [&](double s, double v)
       {
         const double g = ClampRounding(v);
         tf.AddColorKnot(s, g, g, g);
       },
       approximated);
-    return std::string();
+    return error.empty() ? error : "the gray transfer function " + error;
   }
   vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
   const int n = color ? color->GetSize() : 0;
@@ -255,43 +419,87 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
   {
     return "the colour transfer function is empty";
   }
-  const bool linearSpace = color->GetColorSpace() == VTK_CTF_RGB;
+  // The knots in order; at one scalar only the first (the limit from the
+  // left) and the last (from the right) matter.
+  std::vector<std::pair<double, std::array<double, 3>>> knots;
+  auto addColour = [&](double s, const double* rgb)
+  {
+    const std::array<double, 3> c{ ClampRounding(rgb[0]), ClampRounding(rgb[1]),
+      ClampRounding(rgb[2]) };
+    if (knots.size() >= 2 && knots.back().first == s && knots[knots.size() - 2].first == s)
+    {
+      knots.back().second = c;
+    }
+    else if (knots.empty() || knots.back().first != s || knots.back().second != c)
+    {
+      knots.push_back({ s, c });
+    }
+  };
+  const Ranges transparent = TransparentRanges(property->GetScalarOpacity(0));
+  const int space = color->GetColorSpace();
+  // VTK takes the log scale only where every node is positive.
+  const bool logScale = color->GetScale() == VTK_CTF_LOG10 && color->GetRange()[0] > 0.0;
+  double first[6], last[6];
+  color->GetNodeValue(0, first);
+  color->GetNodeValue(n - 1, last);
+  double below[3] = { 0.0, 0.0, 0.0 }, above[3] = { 0.0, 0.0, 0.0 };
+  if (color->GetClamping())
+  {
+    std::copy(first + 1, first + 4, below);
+    std::copy(last + 1, last + 4, above);
+    if (color->GetUseBelowRangeColor())
+    {
+      color->GetBelowRangeColor(below);
+    }
+    if (color->GetUseAboveRangeColor())
+    {
+      color->GetAboveRangeColor(above);
+    }
+  }
+  addColour(first[0], below);
   for (int i = 0; i < n; ++i)
   {
     double node[6], next[6];
     color->GetNodeValue(i, node);
     addColour(node[0], node + 1);
-    if (i + 1 < n)
+    if (i + 1 == n)
     {
-      color->GetNodeValue(i + 1, next);
-      const Shape shape = ShapeOf(node[4], node[5], linearSpace);
-      if (shape == Shape::Curved && colourTolerance > 0.0 && node[5] < 0.01 &&
-        color->GetColorSpace() == VTK_CTF_HSV &&
-        AddHSVInterval(node[0], node + 1, next[0], next + 1, node[4], color->GetHSVWrap() != 0,
-          colourTolerance, addColour))
-      {
-        ++certified;
-        continue;
-      }
-      AddInterval<3>(
-        node[0], node + 1, next[0], next + 1, node[4], shape, addColour,
-        [color](double s, double* rgb) { color->GetColor(s, rgb); }, approximated);
+      break;
     }
+    color->GetNodeValue(i + 1, next);
+    const double xm = MidpointScalar(node[0], next[0], ClampMidpoint(node[4]), logScale);
+    const Shape shape = ShapeOf(node[4], node[5], space == VTK_CTF_RGB && !logScale);
+    if (shape != Shape::Step && space == VTK_CTF_STEP)
+    {
+      // Step space: the interval takes the next node's colour.
+      addColour(node[0], next + 1);
+      continue;
+    }
+    if (shape == Shape::Curved && colourTolerance > 0.0 && next[0] > node[0] &&
+      AddCertifiedInterval(
+        color, node, next, logScale, xm, colourTolerance, transparent, addColour))
+    {
+      ++certified;
+      continue;
+    }
+    AddInterval<3>(
+      node[0], node + 1, next[0], next + 1, xm, shape, addColour,
+      [color](double s, double* rgb) { color->GetColor(s, rgb); }, approximated);
+  }
+  addColour(last[0], above);
+  for (const auto& k : knots)
+  {
+    tf.AddColorKnot(k.first, k.second[0], k.second[1], k.second[2]);
   }
   return std::string();
 }
 
 std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf, int& approximated)
 {
-  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
-  const int n = opacity ? opacity->GetSize() : 0;
-  if (n == 0)
-  {
-    return "the scalar opacity function is empty";
-  }
-  ConvertPiecewise(
-    opacity, [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); }, approximated);
-  return std::string();
+  const std::string error = ConvertPiecewise(
+    property->GetScalarOpacity(0),
+    [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); }, approximated);
+  return error.empty() ? error : "the scalar opacity function " + error;
 }
 
 // True when the gradient opacity changes anything: enabled and not the
@@ -357,8 +565,10 @@ std::string avos::ApproximationNotice(int approximatedIntervals)
     return std::string();
   }
   return std::to_string(approximatedIntervals) +
-    " interval(s) of the transfer function (a sharpness between 0.01 and 0.99, or HSV, Lab or "
-    "Diverging colour space) are approximated by 16 linear pieces each, without a proven bound: "
+    " interval(s) of the transfer function (a colour map other than RGB, a sharpness between 0.01 "
+    "and 0.99 or a log scale, outside the piecewise method; a CIEDE2000 colour map, or a Hermite "
+    "or log-scale opacity, in any method) are approximated by 16 linear pieces each, without a "
+    "proven bound: "
     "the tolerance is not certified there";
 }
 

@@ -21,17 +21,22 @@ namespace avos
  * is VTK's opacity per ScalarOpacityUnitDistance. `voxel`: the world length
  * of one voxel unit. The knots are kept, and VTK's function between them is
  * taken exactly where it is piecewise linear: RGB space (or a gray or
- * opacity function) with a sharpness below 0.01 (linear, or a kink at a
- * moved midpoint: one more knot) or above 0.99 (a step at the midpoint: a
- * jump). Colours and opacities within 1e-12 of [0, 1] (the rounding of
- * VTK's colour-space conversions) are clamped onto it. Anywhere else (a
- * Hermite curve, HSV, Lab or Diverging space) VTK's function is resampled
- * with 16 sub-knots per interval, an approximation without a proven bound:
- * `approximatedIntervals` (when given) gets the number of such intervals.
- * With `colourTolerance` > 0, HSV colour intervals with a sharpness below
- * 0.01 are instead linearised within colourTolerance of VTK's colours, a
- * proven bound (at most 4096 knots per part between hue sectors, else
- * resampled): `certifiedIntervals` gets their number.
+ * opacity function) on a linear scale with a sharpness below 0.01 (linear,
+ * or a kink at a moved midpoint: one more knot), a sharpness above 0.99 in
+ * any space (a step at the midpoint: a jump), the Step colour space. Outside
+ * the nodes it is VTK's: the end values, the below- and above-range colours,
+ * or 0 without clamping. Colours and opacities within 1e-12 of [0, 1] (the
+ * rounding of VTK's colour-space conversions) are clamped onto it.
+ * With `colourTolerance` > 0, every other colour interval (HSV, Lab or
+ * Diverging space, a Hermite curve, a log scale) is linearised within
+ * colourTolerance of VTK's colours wherever the opacity is not 0, a proven
+ * bound (numerics::Linearize against the model of avosNodeInterpolation.h,
+ * checked against GetColor at every knot): `certifiedIntervals` gets their
+ * number. What is not certified (no tolerance, the CIEDE2000 space, Hermite
+ * or log-scale opacity and gray functions, a tolerance below the 1e-7 jumps
+ * of VTK's own L*a*b* conversion, more than 4096 knots per half interval)
+ * is resampled with 16 sub-knots per interval, an approximation without a
+ * proven bound: `approximatedIntervals` gets the number of such intervals.
  * Returns an empty string, or why the property cannot be used (empty
  * functions, invalid values).
  */
@@ -47,7 +52,7 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
  * weights sum to the ray's opacity), so a class that integrates the
  * converted function to (1 - ColourShare) eps keeps every pixel within eps.
  */
-constexpr double ColourShare = 0.1;
+constexpr double ColourShare = 0.5;
 
 /**
  * The tolerance a class integrates to when its colours were converted

@@ -2,9 +2,13 @@
 // (vtkPiecewiseFunction::GetValue, vtkColorTransferFunction::GetColor) at
 // 20,000 scalars per function: where VTK interpolates piecewise linearly (a
 // moved midpoint with sharpness 0, a step with sharpness 1, in any colour
-// space for the step) the knots reproduce it to rounding and nothing is
-// reported approximated; a Hermite curve or an HSV interpolation is
-// reported; VTK's rounding above 1 is clamped, a real excess refused.
+// space for the step, the Step space) the knots reproduce it to rounding and
+// nothing is reported approximated; with a colour tolerance, every curved
+// colour interval (HSV, Lab, Diverging, Hermite curves, a log scale) is
+// within it of VTK's colours; without one, or in the CIEDE2000 space, such
+// intervals are reported approximated; outside the nodes the colours and
+// opacities are VTK's (clamped, range colours, none without clamping);
+// VTK's rounding above 1 is clamped, a real excess refused.
 #include "avosTransferFunctionFromProperty.h"
 
 #include "vtkColorTransferFunction.h"
@@ -15,8 +19,10 @@
 #include "avosTestHelpers.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -128,30 +134,119 @@ int TestTransferFunctionFromProperty(int, char*[])
       "the classes' warning names the count, and there is none without approximation");
   }
   {
-    // HSV interpolation with a colour tolerance: linearised within it, a
-    // proven bound, on intervals with the hue wrapped and not, moved
-    // midpoints, and greys (hue 0).
+    // Every colour space and curve VTK offers, certified within the colour
+    // tolerance: HSV both ways round the hue, Lab, ParaView's default Cool
+    // to Warm (Diverging, through white), a diverging map from a grey (its
+    // hue adjusted), Hermite curves in RGB, HSV and Lab, and a log scale.
+    struct Map
+    {
+      const char* Name;
+      int Space;
+      bool Log;
+      std::vector<std::array<double, 6>> Nodes; // x, r, g, b, midpoint, sharpness
+    };
+    const std::vector<Map> maps = {
+      { "HSV", VTK_CTF_HSV, false,
+        { { 0, 1, 0, 0, 0.5, 0 }, { 20, 0.1, 0.2, 1, 0.3, 0 }, { 60, 0.9, 0.8, 0.1, 0.5, 0 },
+          { 100, 0.5, 0.5, 0.5, 0.5, 0 } } },
+      { "Lab", VTK_CTF_LAB, false,
+        { { 0, 0.1, 0.1, 0.9, 0.5, 0 }, { 40, 1, 1, 0.2, 0.7, 0 },
+          { 100, 0.9, 0.1, 0.1, 0.5, 0 } } },
+      { "Cool to Warm", VTK_CTF_DIVERGING, false,
+        { { 0, 0.231373, 0.298039, 0.752941, 0.5, 0 },
+          { 100, 0.705882, 0.0156863, 0.14902, 0.5, 0 } } },
+      { "diverging from grey", VTK_CTF_DIVERGING, false,
+        { { 0, 0.4, 0.4, 0.4, 0.5, 0 }, { 100, 0.9, 0.2, 0.1, 0.5, 0 } } },
+      { "RGB Hermite", VTK_CTF_RGB, false,
+        { { 0, 0, 0, 1, 0.2, 0.5 }, { 50, 1, 0.5, 0, 0.5, 0.05 }, { 100, 0, 1, 0.3, 0.5, 0 } } },
+      { "HSV Hermite", VTK_CTF_HSV, false,
+        { { 0, 1, 0, 0, 0.6, 0.8 }, { 100, 0, 0.3, 1, 0.5, 0 } } },
+      { "Lab Hermite", VTK_CTF_LAB, false,
+        { { 0, 0.1, 0.1, 0.9, 0.5, 0.3 }, { 100, 0.9, 0.1, 0.1, 0.5, 0 } } },
+      { "log scale", VTK_CTF_RGB, true,
+        { { 1, 0, 0, 1, 0.5, 0 }, { 30, 0.2, 1, 0.2, 0.3, 0 }, { 1000, 1, 0.5, 0, 0.5, 0 } } },
+    };
+    for (const Map& map : maps)
+    {
+      Case c;
+      c.Opacity->AddPoint(0.0, 0.1);
+      c.Opacity->AddPoint(1000.0, 0.5);
+      c.Colour->SetColorSpace(map.Space);
+      c.Colour->SetScale(map.Log ? VTK_CTF_LOG10 : VTK_CTF_LINEAR);
+      for (const auto& n : map.Nodes)
+      {
+        c.Colour->AddRGBPoint(n[0], n[1], n[2], n[3], n[4], n[5]);
+      }
+      const double lo = map.Nodes.front()[0], hi = map.Nodes.back()[0];
+      for (double tolerance : { 1e-3, 1e-4, 1e-5 })
+      {
+        int certified = 0;
+        const std::string name = std::string(map.Name) + " at " + std::to_string(tolerance);
+        Expect(avos::TransferFunctionFromProperty(
+                 c.Property, true, 1.0, c.Function, &c.Approximated, tolerance, &certified)
+                 .empty(),
+          name + " converts");
+        Expect(certified == static_cast<int>(map.Nodes.size()) - 1 && c.Approximated == 0,
+          name + ": every interval certified");
+        Expect(ColourError(c.Function, c.Colour, lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)) <=
+            tolerance,
+          name + ": within the tolerance of VTK's colours");
+        Expect(c.Function.GetKnotValues().size() < 20000, name + ": a bounded number of knots");
+      }
+      Expect(c.Convert().empty() && c.Approximated == static_cast<int>(map.Nodes.size()) - 1,
+        std::string(map.Name) + ": resampled and reported without a tolerance");
+    }
+  }
+  {
+    // CIEDE2000 (a path searched through L*a*b*) is not modelled: reported.
     Case c;
     c.Opacity->AddPoint(0.0, 0.1);
-    c.Opacity->AddPoint(100.0, 0.5);
-    c.Colour->SetColorSpaceToHSV();
+    c.Colour->SetColorSpaceToLabCIEDE2000();
+    c.Colour->AddRGBPoint(0.0, 0.2, 0.3, 0.8);
+    c.Colour->AddRGBPoint(10.0, 0.7, 0.0, 0.1);
+    int certified = 0;
+    Expect(avos::TransferFunctionFromProperty(
+             c.Property, true, 1.0, c.Function, &c.Approximated, 1e-3, &certified)
+             .empty() &&
+        certified == 0 && c.Approximated == 1,
+      "CIEDE2000 is reported approximated");
+  }
+  {
+    // The Step space: each interval takes its second node's colour, exactly.
+    Case c;
+    c.Opacity->AddPoint(0.0, 0.1);
+    c.Colour->SetColorSpaceToStep();
     c.Colour->AddRGBPoint(0.0, 1.0, 0.0, 0.0);
-    c.Colour->AddRGBPoint(20.0, 0.1, 0.2, 1.0, 0.3, 0.0); // the short way: through magenta
-    c.Colour->AddRGBPoint(45.0, 0.9, 0.8, 0.1);
-    c.Colour->AddRGBPoint(60.0, 0.5, 0.5, 0.5, 0.8, 0.0); // a grey
-    c.Colour->AddRGBPoint(100.0, 0.0, 0.6, 0.3);
-    for (double tolerance : { 1e-3, 1e-4, 1e-5 })
-    {
-      int certified = 0;
-      Expect(avos::TransferFunctionFromProperty(
-               c.Property, true, 1.0, c.Function, &c.Approximated, tolerance, &certified)
-               .empty(),
-        "HSV converts with a colour tolerance");
-      Expect(certified == 4 && c.Approximated == 0, "every HSV interval certified");
-      Expect(ColourError(c.Function, c.Colour, -5.0, 105.0) <= tolerance,
-        "HSV colours within the colour tolerance of VTK's");
-      Expect(c.Function.GetKnotValues().size() < 20000, "a bounded number of knots");
-    }
+    c.Colour->AddRGBPoint(3.0, 0.0, 1.0, 0.0);
+    c.Colour->AddRGBPoint(10.0, 0.0, 0.0, 1.0, 0.4, 1.0);
+    c.Colour->AddRGBPoint(20.0, 1.0, 1.0, 0.0);
+    Expect(c.Convert().empty() && c.Approximated == 0, "the Step space converts exactly");
+    Expect(ColourError(c.Function, c.Colour, -5.0, 25.0, { 0.0, 3.0, 10.0, 14.0 }) < 1e-12,
+      "the Step space as VTK's, a sharpness-1 node's step at its midpoint too");
+  }
+  {
+    // Outside the nodes: range colours with clamping, black without; the
+    // opacity 0 without clamping.
+    Case c;
+    c.Opacity->AddPoint(2.0, 0.3);
+    c.Opacity->AddPoint(8.0, 0.6);
+    c.Colour->AddRGBPoint(2.0, 0.2, 0.4, 0.6);
+    c.Colour->AddRGBPoint(8.0, 0.8, 0.6, 0.4);
+    c.Colour->UseBelowRangeColorOn();
+    c.Colour->SetBelowRangeColor(1.0, 0.0, 1.0);
+    Expect(c.Convert().empty(), "range colours convert");
+    Expect(ColourError(c.Function, c.Colour, 0.0, 10.0, { 2.0, 8.0 }) < 1e-12,
+      "the below-range colour and the held end colour, as VTK's");
+    c.Colour->ClampingOff();
+    c.Opacity->ClampingOff();
+    Expect(c.Convert().empty(), "unclamped functions convert");
+    Expect(ColourError(c.Function, c.Colour, 0.0, 10.0, { 2.0, 8.0 }) < 1e-12 &&
+        OpacityError(c.Function, c.Opacity, 0.0, 10.0, { 2.0, 8.0 }) < 1e-12,
+      "black and transparent outside the nodes without clamping, as VTK's");
+    c.Opacity->UseLogScaleOn();
+    c.Opacity->AddPoint(0.0, 0.1);
+    Expect(c.Convert().find("log scale") != std::string::npos,
+      "a log-scale opacity with a node at 0 is refused");
   }
   {
     // VTK's rounding above 1 is clamped; a real excess is refused.

@@ -54,36 +54,57 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         rgba = self.mapper.GetRenderedImage().GetPointData().GetScalars()
         return [rgba.GetValue(i) for i in range(rgba.GetNumberOfValues())] if rgba else []
 
-    def test_piecewise_hsv_colour_map_within_tolerance(self):
-        # An HSV rainbow, as ParaView's and VTK's examples set it: the
-        # piecewise method converts it within 0.1 eps of VTK's colours (a
-        # proven bound) and integrates to 0.9 eps, so every pixel is within
-        # eps of the integral of VTK's own function. That integral: the
-        # same method at eps 1e-5 on VTK's function sampled at 4001 RGB
-        # points (linear between them: within 1e-8 of it). The 16-sample
-        # resampling the conversion replaces fails this.
-        hsv = vtkColorTransferFunction()
+    def colour_maps(self):
+        """VTK colour maps whose colours are not piecewise linear in the
+        scalar, each as a user sets it."""
+        def rgb_points(f, points):
+            for p in points:
+                f.AddRGBPoint(*p)
+            return f
+        hsv = rgb_points(vtkColorTransferFunction(), [
+            (0.0, 0.0, 0.0, 1.0), (0.6, 0.0, 1.0, 0.2, 0.3, 0.0), (1.0, 1.0, 0.0, 0.0)])
         hsv.SetColorSpaceToHSV()
-        hsv.AddRGBPoint(0.0, 0.0, 0.0, 1.0)
-        hsv.AddRGBPoint(0.6, 0.0, 1.0, 0.2, 0.3, 0.0)
-        hsv.AddRGBPoint(1.0, 1.0, 0.0, 0.0)
-        sampled = vtkColorTransferFunction()
-        for i in range(4001):
-            s = i / 4000.0
-            sampled.AddRGBPoint(s, *hsv.GetColor(s))
-        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
-        self.mapper.SetTolerance(1e-5)
-        self.prop.SetColor(sampled)
-        reference = self.render()
-        self.assertGreater(max(reference), 0.2)
+        # ParaView's default map, "Cool to Warm".
+        diverging = rgb_points(vtkColorTransferFunction(), [
+            (0.0, 0.231373, 0.298039, 0.752941), (1.0, 0.705882, 0.0156863, 0.14902)])
+        diverging.SetColorSpaceToDiverging()
+        lab = rgb_points(vtkColorTransferFunction(), [
+            (0.0, 0.1, 0.1, 0.9), (0.55, 1.0, 1.0, 0.2), (1.0, 0.9, 0.1, 0.1)])
+        lab.SetColorSpaceToLab()
+        hermite = rgb_points(vtkColorTransferFunction(), [
+            (0.0, 0.1, 0.3, 1.0, 0.2, 0.5), (1.0, 1.0, 0.8, 0.2)])
+        log = rgb_points(vtkColorTransferFunction(), [
+            (0.05, 0.1, 0.3, 1.0), (0.3, 0.2, 1.0, 0.3), (1.0, 1.0, 0.8, 0.2)])
+        log.SetScaleToLog10()
+        return {"HSV": hsv, "Diverging": diverging, "Lab": lab,
+                "midpoint 0.2, sharpness 0.5": hermite, "log scale": log}
+
+    def test_piecewise_colour_maps_within_tolerance(self):
+        # HSV, Diverging and Lab spaces, a Hermite curve, a log scale: the
+        # piecewise method converts each within eps / 2 of VTK's colours (a
+        # proven bound) and integrates to eps / 2, so every pixel is within
+        # eps of the integral of VTK's own function. That integral: the same
+        # method at eps 1e-5 on VTK's function sampled at 20001 RGB points
+        # (linear between them: within 1e-6 of it).
         warnings = []
         self.mapper.AddObserver(vtkCommand.WarningEvent, lambda o, e: warnings.append(e))
-        self.prop.SetColor(hsv)
-        self.mapper.SetTolerance(1e-3)
-        image = self.render()
-        error = max(abs(a - r) for a, r in zip(image, reference))
-        self.assertLessEqual(error, 1e-3 + 1e-5)
-        self.assertEqual(warnings, [], "the HSV colours are certified, not approximated")
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        for name, colours in self.colour_maps().items():
+            with self.subTest(colour_map=name):
+                sampled = vtkColorTransferFunction()
+                for i in range(20001):
+                    s = i / 20000.0
+                    sampled.AddRGBPoint(s, *colours.GetColor(s))
+                self.mapper.SetTolerance(1e-5)
+                self.prop.SetColor(sampled)
+                reference = self.render()
+                self.assertGreater(max(reference), 0.2)
+                self.prop.SetColor(colours)
+                self.mapper.SetTolerance(1e-3)
+                image = self.render()
+                error = max(abs(a - r) for a, r in zip(image, reference))
+                self.assertLessEqual(error, 1e-3 + 1e-5)
+                self.assertEqual(warnings, [], "the colours are certified, not approximated")
 
     def test_adaptive_within_tolerance_of_reference(self):
         self.mapper.SetIntegrationMethodToReference()
