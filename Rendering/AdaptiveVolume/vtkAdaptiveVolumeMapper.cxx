@@ -182,6 +182,7 @@ public:
   // UpdateScalars: the empty-space map's ranges (rebuilt when the scalars
   // change), the data's range, the engine's view of the scalars (in place).
   avos::EmptySpaceRanges Ranges;
+  vtkMTimeType NaNReported = 0; // the ranges whose NaN count was reported
   double DataRange[2] = { 0.0, 1.0 };
   avos::engine::Scalars View;
 
@@ -491,12 +492,15 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars()
     vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
     return false;
   }
-  if (internals.Ranges.GetNaNCount() > 0)
+  // NaN: the interpolant is undefined in every cell with a NaN corner, and
+  // each method takes such a cell as empty (transparent). Said once per
+  // change of the scalars.
+  if (internals.Ranges.GetNaNCount() > 0 && internals.NaNReported != internals.Ranges.GetTime())
   {
-    vtkErrorMacro(<< "The input has " << internals.Ranges.GetNaNCount()
-                  << " NaN scalars; a volume with undefined values is not rendered.");
-    return false;
+    vtkWarningMacro(<< "The input has " << internals.Ranges.GetNaNCount()
+                    << " NaN scalars: the cells they touch are rendered transparent.");
   }
+  internals.NaNReported = internals.Ranges.GetTime();
   // Bounds of the trilinear field, and the projections' normalisation.
   scalars->GetRange(internals.DataRange, 0);
   return true;

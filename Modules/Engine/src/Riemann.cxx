@@ -107,7 +107,13 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
   const auto v11 = hn::MulAdd(fx, hn::Sub(v111, v011), v011);
   const auto v0 = hn::MulAdd(fy, hn::Sub(v10, v00), v00);
   const auto v1 = hn::MulAdd(fy, hn::Sub(v11, v01), v01);
-  const auto s = hn::MulAdd(fz, hn::Sub(v1, v0), v0);
+  // A sample in a cell with a NaN corner is NaN: transparent, as in every
+  // method. Its lanes search the table with a finite stand-in and are
+  // zeroed at the end. (Only float scalars can hold a NaN.)
+  const auto sampled = hn::MulAdd(fz, hn::Sub(v1, v0), v0);
+  constexpr bool floats = Scalars == Volume::Type::Float32;
+  const auto undefined = floats ? hn::IsNaN(sampled) : hn::FirstN(d, 0);
+  const auto s = floats ? hn::IfThenZeroElse(undefined, sampled) : sampled;
 
   // The piece: the number of knots at or below s (std::upper_bound's answer).
   const std::int32_t m = static_cast<std::int32_t>(tf.Knots.size());
@@ -215,11 +221,12 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
       hn::IfThenElse(hn::Ge(opacity, hn::Set(d, 1.0f)), opaque, depth), hn::Set(d, tf.InverseUnit));
   }
   const auto a = hn::Neg(hn::Expm1(d, hn::Neg(hn::Mul(tau, dt))));
-  hn::Store(a, d, alpha);
+  auto defined = [&](hn::Vec<D> v) { return floats ? hn::IfThenZeroElse(undefined, v) : v; };
+  hn::Store(defined(a), d, alpha);
   float* out[3] = { r, g, b };
   for (int c = 0; c < 3; ++c)
   {
-    hn::Store(linear(1 + c, values.Colour[c], values.ColourSlope[c]), d, out[c]);
+    hn::Store(defined(linear(1 + c, values.Colour[c], values.ColourSlope[c])), d, out[c]);
   }
 }
 

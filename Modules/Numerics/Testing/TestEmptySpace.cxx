@@ -170,6 +170,17 @@ TEST(EmptySpace, BlockRangesAndClassification)
   std::vector<float> withNaN(data.begin(), data.end());
   withNaN[100] = std::nanf("");
   EXPECT_EQ(map.ComputeRanges(withNaN.data()), 1u);
+  // On the faces blocks share (x = BlockSize), at a block corner, and at
+  // the grid's last point: each counted once.
+  const int size = EmptySpaceMap<double>::BlockSize;
+  const std::size_t shared[] = { std::size_t(size),
+    std::size_t(size + size * N[0] + size * N[0] * N[1]),
+    std::size_t(N[0] * N[1] * N[2] - 1) };
+  for (std::size_t i : shared)
+  {
+    withNaN[i] = std::nanf("");
+  }
+  EXPECT_EQ(map.ComputeRanges(withNaN.data()), 4u);
 }
 
 // Each block's range as kept against the brute-force range of its grid

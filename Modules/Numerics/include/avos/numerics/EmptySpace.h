@@ -385,7 +385,11 @@ private:
                 const double v = double(row[i]);
                 if (v != v)
                 {
-                  ++nans;
+                  // Counted by the one block that owns the point (blocks
+                  // share their faces' points).
+                  auto owns = [&](int a, int x)
+                  { return x < first[a] + BlockSize || x == this->Dimensions[a] - 1; };
+                  nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
                   continue;
                 }
                 lo = std::min(lo, v);
