@@ -43,6 +43,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h> // isatty
+
 namespace
 {
 namespace app = avos::app;
@@ -332,8 +334,9 @@ std::string Parse(int argc, char* argv[], Options& o)
   return std::string();
 }
 
-// Prints the mapper's progress on the terminal once a frame takes a second,
-// with the time left estimated from the share of tiles done so far.
+// Prints the mapper's progress once a frame takes a second: on a terminal a
+// line updated in place, with the time left estimated from the share of
+// tiles done so far; into a log (stderr redirected) only the final line.
 class ProgressPrinter : public vtkCommand
 {
 public:
@@ -352,15 +355,26 @@ public:
     const double elapsed = this->Timer->GetElapsedTime();
     if (fraction >= 1.0 && this->Printed)
     {
-      std::cerr << "\r" << std::string(48, ' ') << "\r" << std::flush;
+      if (this->Terminal)
+      {
+        std::cerr << "\r" << std::string(48, ' ') << "\r" << std::flush;
+      }
+      else
+      {
+        std::cerr << "rendered a frame in " << std::fixed << std::setprecision(1) << elapsed << " s"
+                  << std::defaultfloat << std::setprecision(6) << std::endl;
+      }
       this->Printed = false;
     }
     else if (elapsed > 1.0 && fraction > 0.0 && fraction < 1.0)
     {
-      const double left = elapsed * (1.0 - fraction) / fraction;
-      std::cerr << "\rrendering " << std::setw(3) << static_cast<int>(100.0 * fraction)
-                << " %, about " << std::fixed << std::setprecision(0) << std::ceil(left)
-                << " s left  " << std::defaultfloat << std::setprecision(6) << std::flush;
+      if (this->Terminal)
+      {
+        const double left = elapsed * (1.0 - fraction) / fraction;
+        std::cerr << "\rrendering " << std::setw(3) << static_cast<int>(100.0 * fraction)
+                  << " %, about " << std::fixed << std::setprecision(0) << std::ceil(left)
+                  << " s left  " << std::defaultfloat << std::setprecision(6) << std::flush;
+      }
       this->Printed = true;
     }
   }
@@ -370,6 +384,7 @@ protected:
 
 private:
   vtkNew<vtkTimerLog> Timer;
+  const bool Terminal = isatty(STDERR_FILENO) != 0;
   double Last = 0.0;
   bool Printed = false;
 };

@@ -9,6 +9,7 @@ import json
 import math
 import struct
 import os
+import pty
 import signal
 import subprocess
 import sys
@@ -284,16 +285,22 @@ check((open(kept_png, "rb").read(), open(kept_json, "rb").read()) == before,
 check(not [f for f in os.listdir(SCRATCH) if ".partial-" in f], "no partial file left behind")
 
 # Ctrl-C: a long render (Riemann at the smallest step, 512x512: minutes here)
-# shows its progress with an estimate of the time left; SIGINT then aborts the
-# frame, nothing is written (the previous files stay) and the status is 130.
-# The seconds from SIGINT to exit are printed, not asserted (no timed test);
-# a mapper that ignored the abort would run into the wait's limit and fail.
+# shows its progress on a terminal (a pseudo-terminal here) with an estimate
+# of the time left; SIGINT then aborts the frame, nothing is written (the
+# previous files stay) and the status is 130. The seconds from SIGINT to exit
+# are printed, not asserted (no timed test); a mapper that ignored the abort
+# would run into the wait's limit and fail.
+terminal, terminal_end = pty.openpty()
 proc = subprocess.Popen([EXE, VOLUME, "--tf", TF, "--size", "512x512", "--method", "riemann",
                          "--step", "0.001", "--output", kept_png, "--report", kept_json],
-                        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                        stdout=subprocess.PIPE, stderr=terminal_end)
+os.close(terminal_end)
 progress = b""
 while b"s left" not in progress and proc.poll() is None:
-    chunk = os.read(proc.stderr.fileno(), 4096)
+    try:
+        chunk = os.read(terminal, 4096)
+    except OSError:
+        break
     if not chunk:
         break
     progress += chunk
@@ -301,18 +308,42 @@ check(b"rendering" in progress and b"s left" in progress,
       "a long render shows progress and an estimate: %r" % progress[-200:])
 sent = time.monotonic()
 proc.send_signal(signal.SIGINT)
+def read_terminal():
+    rest = b""
+    while True:
+        try:
+            chunk = os.read(terminal, 4096)
+        except OSError:
+            return rest
+        if not chunk:
+            return rest
+        rest += chunk
+
+
 try:
-    rest = proc.communicate(timeout=60)[1]
+    proc.wait(timeout=60)
     print("Ctrl-C to exit: %.3f s" % (time.monotonic() - sent))
 except subprocess.TimeoutExpired:
     proc.kill()
-    rest = proc.communicate()[1]
+    proc.wait()
     check(False, "SIGINT stops the render")
+rest = read_terminal()
+os.close(terminal)
 check(proc.returncode == 130 and b"interrupted" in rest,
       "an interrupted render exits 130 with a message: %d %r" % (proc.returncode, rest[-200:]))
 check((open(kept_png, "rb").read(), open(kept_json, "rb").read()) == before,
       "an interrupted render leaves the previous files untouched")
 check(not [f for f in os.listdir(SCRATCH) if ".partial-" in f], "no partial file after Ctrl-C")
+# Into a log (stderr not a terminal) a frame of over a second leaves one
+# final line, no carriage-return updates.
+# (A frame of under a second, on a faster machine, leaves none.)
+code, out = run(VOLUME, "--tf", TF, "--size", "512x512", "--method", "riemann", "--step", "0.005",
+                "--output", os.path.join(SCRATCH, "logged.png"))
+seconds = float(out.split("median ")[1].split(" s")[0]) if "median " in out else 0.0
+final = out.count("rendered a frame in")
+check(code == 0 and "\r" not in out and "s left" not in out and
+      (final == (1 if seconds > 1.5 else 0) or (0.9 < seconds <= 1.5 and final <= 1)),
+      "a log gets the final line only: %r" % out[-300:])
 code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--output",
                 os.path.join(SCRATCH, "no-such-folder", "x.png"))
 check(code not in (0, -6, -11) and "cannot write" in out, "an unwritable output: " + out)
