@@ -44,6 +44,7 @@ from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D
 from vtkmodules.vtkImagingCore import vtkExtractVOI
 from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+from vtkmodules.vtkImagingCore import vtkImageConstantPad
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkImageActor, vtkPolyDataMapper,
                                          vtkRenderWindow, vtkRenderer, vtkTextActor, vtkVolume,
                                          vtkVolumeProperty, vtkWindowToImageFilter)
@@ -59,7 +60,9 @@ COMPARE = os.path.join(ROOT, "build", "bin", "avos-compare")
 # Volume, transfer function, and the isovalue where the transfer function
 # starts to show: VoS replaces the (empty) space in front of the visible
 # volume by the surface, and each vertex's ray integrates what lies behind
-# it. Engine's and Bonsai's files are transparent up to 30 and rise from 0;
+# it. Engine's linear file is transparent up to 30; Bonsai's linear file is
+# not transparent anywhere above 0 (a fog in front of any surface: VoS cannot
+# show it), so its scene takes Bonsai's other file, transparent up to 35;
 # Foot.tf1d makes the air a fog (opacity 0.3 at scalar 0) and the bone
 # almost transparent, so its scene keeps the file's colours with soft tissue
 # 0.05 (scalars 60 to 110) and bone 0.1 (from 170), transparent below 40.
@@ -70,7 +73,7 @@ FOOT_OPACITY = [(0, 0.0), (40, 0.0), (60, 0.05), (110, 0.05), (130, 0.0), (160, 
 DATASETS = {
     "Foot": ("foot_zfp.vti", "Foot.tf1d", 45,
              "its colours; opacity " + ", ".join("%g: %g" % k for k in FOOT_OPACITY)),
-    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.linear.tf1d", 30, ""),
+    "Bonsai": ("bonsai_zfp.vti", "Bonsai.1.256x256x256.tf1d", 35, ""),
     "Engine": ("engine_zfp.vti", "Engine.1.256x256x128.linear.tf1d", 35, ""),
 }
 SIZES = [(800, 600), (400, 300)]
@@ -89,8 +92,18 @@ def load(name):
     volume.SetInputConnection(reader.GetOutputPort())
     volume.SetSampleRate(2, 2, 2)
     volume.Update()
+    # Closed where the visible volume meets the grid's boundary (Bonsai's
+    # soil and pot are cut by it): contoured on the volume padded with one
+    # layer of 0, below every isovalue, so that the surface caps the cut
+    # and its vertices there cast their rays into the volume.
+    extent = volume.GetOutput().GetExtent()
+    pad = vtkImageConstantPad()
+    pad.SetInputConnection(volume.GetOutputPort())
+    pad.SetConstant(0)
+    pad.SetOutputWholeExtent(extent[0] - 1, extent[1] + 1, extent[2] - 1, extent[3] + 1,
+                             extent[4] - 1, extent[5] + 1)
     surface = vtkFlyingEdges3D()
-    surface.SetInputConnection(volume.GetOutputPort())
+    surface.SetInputConnection(pad.GetOutputPort())
     surface.SetValue(0, iso)
     surface.ComputeNormalsOn()
     surface.Update()
