@@ -117,6 +117,36 @@ int TestVolumeOnSurfaceMapper(int, char*[])
       worstAgainst(1.0 - std::exp(-tau * 0.5 / voxel)) <= 0.5 + 1e-6,
     "in front of the surface: the closed form of 0.5 world units");
   mapper->SetVolumeSideToBehindSurface();
+  // NaN scalars, as the CPU mapper takes them: a cell with a NaN corner is
+  // transparent. A NaN layer at z = -0.875 empties the cells on both sides
+  // of it (0.125 world units of the 1.5 behind the grid): the piecewise rays
+  // give the closed form of 1.375, the sampled ones within a step of it.
+  {
+    vtkNew<vtkImageData> holed;
+    holed->SetDimensions(33, 33, 33);
+    holed->SetOrigin(-1, -1, -1);
+    holed->SetSpacing(voxel, voxel, voxel);
+    holed->AllocateScalars(VTK_FLOAT, 1);
+    vtkDataArray* values = holed->GetPointData()->GetScalars();
+    values->Fill(300);
+    for (vtkIdType p = 0; p < 33 * 33; ++p)
+    {
+      values->SetTuple1(2 * 33 * 33 + p, std::nan(""));
+    }
+    mapper->SetVolumeData(holed);
+    const double shortened = 1.0 - std::exp(-tau * 1.375 / voxel);
+    for (int method : { vtkVolumeOnSurfaceMapper::PIECEWISE, vtkVolumeOnSurfaceMapper::LEVOY,
+           vtkVolumeOnSurfaceMapper::ADAPTIVE })
+    {
+      mapper->SetIntegrationMethod(method);
+      window->Render();
+      Expect(worstAgainst(shortened) <=
+          (method == vtkVolumeOnSurfaceMapper::PIECEWISE ? 0.5 + 1e-6 : 3.0),
+        "NaN cells are transparent for the rays behind the surface");
+    }
+    mapper->SetVolumeData(volume);
+    mapper->SetIntegrationMethodToLevoy();
+  }
 
   // A clipping plane keeping z >= 0.5 - h cuts the rays too: each leaves the
   // kept volume after h world units (closed form), and moving the plane
