@@ -117,7 +117,7 @@ inline void ScaleToOne(double rgb[3])
 }
 inline void ScaleToOne(Jet rgb[3])
 {
-  using I = numerics::Interval<double>;
+  using I = numerics::Bounds<double>;
   const I largest(std::max(rgb[0].V.Lo, std::max(rgb[1].V.Lo, rgb[2].V.Lo)),
     std::max(rgb[0].V.Hi, std::max(rgb[1].V.Hi, rgb[2].V.Hi)));
   const double guard = 1e-12;

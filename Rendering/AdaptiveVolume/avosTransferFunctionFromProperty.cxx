@@ -310,7 +310,7 @@ bool AddCertifiedInterval(vtkColorTransferFunction* color, const double* node, c
     return false;
   }
   using Jet = avos::numerics::Jet<double>;
-  auto enclose = [&n](const avos::numerics::Interval<double>& x)
+  auto enclose = [&n](const avos::numerics::Bounds<double>& x)
   {
     Jet rgb[3];
     avos::interpolation::Evaluate(n, Jet::Variable(x), rgb);

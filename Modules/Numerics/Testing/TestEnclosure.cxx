@@ -7,6 +7,9 @@
 // certify when its model disagrees with the reference or the knots run out.
 #include "avos/numerics/Enclosure.h"
 #include "avos/numerics/Linearization.h"
+// The integrators beside the enclosures in one unit, as certified shading
+// will have them: their names must not clash.
+#include "avos/numerics/RayIntegrators.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +20,7 @@
 
 using namespace avos::numerics;
 using J = Jet<double>;
-using I = Interval<double>;
+using I = Bounds<double>;
 
 namespace
 {

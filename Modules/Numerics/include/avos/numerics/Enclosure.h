@@ -1,8 +1,8 @@
 // Rigorous enclosures of a function of one variable over an interval:
-// interval arithmetic (Interval) and second-order Taylor jets of intervals
+// interval arithmetic (Bounds) and second-order Taylor jets of intervals
 // (Jet), the tools of a certified bound where a closed form does not exist.
 //
-// An Interval [Lo, Hi] contains every value the quantity takes. Each
+// A Bounds [Lo, Hi] contains every value the quantity takes. Each
 // operation widens its result outward by a few units in the last place, so
 // that the rounding of Real (at most half an ulp for + - * / and sqrt, a few
 // ulps for the library's pow, log, sin and cos) cannot move a true value out
@@ -27,18 +27,18 @@ namespace numerics
 {
 
 template <typename Real>
-struct Interval
+struct Bounds
 {
   Real Lo = Real(0);
   Real Hi = Real(0);
 
-  Interval() = default;
-  Interval(Real v)
+  Bounds() = default;
+  Bounds(Real v)
     : Lo(v)
     , Hi(v)
   {
   }
-  Interval(Real lo, Real hi)
+  Bounds(Real lo, Real hi)
     : Lo(lo)
     , Hi(hi)
   {
@@ -48,14 +48,14 @@ struct Interval
   Real Magnitude() const { return std::max(std::abs(this->Lo), std::abs(this->Hi)); }
   bool Contains(Real v) const { return v >= this->Lo && v <= this->Hi; }
 
-  static Interval Whole()
+  static Bounds Whole()
   {
     const Real inf = std::numeric_limits<Real>::infinity();
-    return Interval(-inf, inf);
+    return Bounds(-inf, inf);
   }
 
   // [lo, hi] widened by `ulps` units of the larger end's magnitude.
-  static Interval Outward(Real lo, Real hi, int ulps = 2)
+  static Bounds Outward(Real lo, Real hi, int ulps = 2)
   {
     if (!(lo <= hi))
     {
@@ -63,94 +63,94 @@ struct Interval
     }
     const Real e = std::numeric_limits<Real>::epsilon() * ulps;
     const Real tiny = std::numeric_limits<Real>::min();
-    return Interval(lo - e * std::abs(lo) - tiny, hi + e * std::abs(hi) + tiny);
+    return Bounds(lo - e * std::abs(lo) - tiny, hi + e * std::abs(hi) + tiny);
   }
 };
 
 template <typename Real>
-Interval<Real> Hull(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> Hull(const Bounds<Real>& a, const Bounds<Real>& b)
 {
-  return Interval<Real>(std::min(a.Lo, b.Lo), std::max(a.Hi, b.Hi));
+  return Bounds<Real>(std::min(a.Lo, b.Lo), std::max(a.Hi, b.Hi));
 }
 
 template <typename Real>
-Interval<Real> operator+(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> operator+(const Bounds<Real>& a, const Bounds<Real>& b)
 {
-  return Interval<Real>::Outward(a.Lo + b.Lo, a.Hi + b.Hi);
+  return Bounds<Real>::Outward(a.Lo + b.Lo, a.Hi + b.Hi);
 }
 
 template <typename Real>
-Interval<Real> operator-(const Interval<Real>& a)
+Bounds<Real> operator-(const Bounds<Real>& a)
 {
-  return Interval<Real>(-a.Hi, -a.Lo);
+  return Bounds<Real>(-a.Hi, -a.Lo);
 }
 
 template <typename Real>
-Interval<Real> operator-(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> operator-(const Bounds<Real>& a, const Bounds<Real>& b)
 {
-  return Interval<Real>::Outward(a.Lo - b.Hi, a.Hi - b.Lo);
+  return Bounds<Real>::Outward(a.Lo - b.Hi, a.Hi - b.Lo);
 }
 
 template <typename Real>
-Interval<Real> operator*(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> operator*(const Bounds<Real>& a, const Bounds<Real>& b)
 {
   const Real p[4] = { a.Lo * b.Lo, a.Lo * b.Hi, a.Hi * b.Lo, a.Hi * b.Hi };
-  return Interval<Real>::Outward(*std::min_element(p, p + 4), *std::max_element(p, p + 4));
+  return Bounds<Real>::Outward(*std::min_element(p, p + 4), *std::max_element(p, p + 4));
 }
 
 template <typename Real>
-Interval<Real> operator/(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> operator/(const Bounds<Real>& a, const Bounds<Real>& b)
 {
   if (!(b.Lo > Real(0) || b.Hi < Real(0)))
   {
-    return Interval<Real>::Whole();
+    return Bounds<Real>::Whole();
   }
   const Real q[4] = { a.Lo / b.Lo, a.Lo / b.Hi, a.Hi / b.Lo, a.Hi / b.Hi };
-  return Interval<Real>::Outward(*std::min_element(q, q + 4), *std::max_element(q, q + 4));
+  return Bounds<Real>::Outward(*std::min_element(q, q + 4), *std::max_element(q, q + 4));
 }
 
 // x^2, tighter than x * x when x holds 0.
 template <typename Real>
-Interval<Real> Square(const Interval<Real>& x)
+Bounds<Real> Square(const Bounds<Real>& x)
 {
   const Real a = x.Lo * x.Lo, b = x.Hi * x.Hi;
   const Real lo = x.Contains(Real(0)) ? Real(0) : std::min(a, b);
-  return Interval<Real>::Outward(lo, std::max(a, b));
+  return Bounds<Real>::Outward(lo, std::max(a, b));
 }
 
 // x^p for x >= 0 (the part of x below 0 is dropped), any real p: monotone in
 // x, increasing for p > 0, decreasing for p < 0.
 template <typename Real>
-Interval<Real> Pow(const Interval<Real>& x, Real p)
+Bounds<Real> Pow(const Bounds<Real>& x, Real p)
 {
   const Real lo = std::max(x.Lo, Real(0)), hi = std::max(x.Hi, Real(0));
   if (p == Real(0))
   {
-    return Interval<Real>(Real(1));
+    return Bounds<Real>(Real(1));
   }
   const Real a = std::pow(lo, p), b = std::pow(hi, p);
-  return Interval<Real>::Outward(std::min(a, b), std::max(a, b), 8);
+  return Bounds<Real>::Outward(std::min(a, b), std::max(a, b), 8);
 }
 
 // The natural logarithm, for x > 0.
 template <typename Real>
-Interval<Real> Log(const Interval<Real>& x)
+Bounds<Real> Log(const Bounds<Real>& x)
 {
   if (!(x.Lo > Real(0)))
   {
-    return Interval<Real>::Whole();
+    return Bounds<Real>::Whole();
   }
-  return Interval<Real>::Outward(std::log(x.Lo), std::log(x.Hi), 8);
+  return Bounds<Real>::Outward(std::log(x.Lo), std::log(x.Hi), 8);
 }
 
 // cos over x: the ends, and 1 or -1 where x holds a multiple of pi.
 template <typename Real>
-Interval<Real> Cos(const Interval<Real>& x)
+Bounds<Real> Cos(const Bounds<Real>& x)
 {
   const Real pi = Real(3.141592653589793238462643383279502884L);
   if (!(x.Width() < Real(2) * pi))
   {
-    return Interval<Real>(Real(-1), Real(1));
+    return Bounds<Real>(Real(-1), Real(1));
   }
   const Real a = std::cos(x.Lo), b = std::cos(x.Hi);
   Real lo = std::min(a, b), hi = std::max(a, b);
@@ -168,39 +168,39 @@ Interval<Real> Cos(const Interval<Real>& x)
       lo = Real(-1);
     }
   }
-  return Interval<Real>::Outward(std::max(lo, Real(-1)), std::min(hi, Real(1)), 8);
+  return Bounds<Real>::Outward(std::max(lo, Real(-1)), std::min(hi, Real(1)), 8);
 }
 
 template <typename Real>
-Interval<Real> Sin(const Interval<Real>& x)
+Bounds<Real> Sin(const Bounds<Real>& x)
 {
   const Real halfPi = Real(1.570796326794896619231321691639751442L);
   // sin x = cos(x - pi/2); the shift's rounding is taken outward.
-  return Cos(Interval<Real>::Outward(x.Lo - halfPi, x.Hi - halfPi));
+  return Cos(Bounds<Real>::Outward(x.Lo - halfPi, x.Hi - halfPi));
 }
 
 // Intersection of two enclosures of one quantity; where rounding leaves
 // them disjoint, the first is kept (both are valid, neither is preferred).
 template <typename Real>
-Interval<Real> Intersect(const Interval<Real>& a, const Interval<Real>& b)
+Bounds<Real> Intersect(const Bounds<Real>& a, const Bounds<Real>& b)
 {
   const Real lo = std::max(a.Lo, b.Lo), hi = std::min(a.Hi, b.Hi);
-  return lo <= hi ? Interval<Real>(lo, hi) : a;
+  return lo <= hi ? Bounds<Real>(lo, hi) : a;
 }
 
 template <typename Real>
 struct Jet
 {
-  Interval<Real> V;  // f(X)
-  Interval<Real> D1; // f'(X), when Smooth
-  Interval<Real> D2; // f''(X), when Smooth
+  Bounds<Real> V;  // f(X)
+  Bounds<Real> D1; // f'(X), when Smooth
+  Bounds<Real> D2; // f''(X), when Smooth
   bool Smooth = true;
   // f(c) and f'(c) at X's centre c, and X's radius r about it, where known
   // (Centred): they give the mean-value forms f(X) in f(c) + f'(c) [-r, r]
   // + f''(X) [0, r^2 / 2] and f'(X) in f'(c) + f''(X) [-r, r], which keep
   // the enclosures of a long chain of operations within O(r) of the
   // range instead of growing with every use of the variable.
-  Interval<Real> F, F1;
+  Bounds<Real> F, F1;
   Real Radius = Real(0);
   bool Centred = true;
 
@@ -216,23 +216,23 @@ struct Jet
   }
 
   // The variable itself over X.
-  static Jet Variable(const Interval<Real>& x)
+  static Jet Variable(const Bounds<Real>& x)
   {
     Jet j;
     j.V = x;
-    j.D1 = j.F1 = Interval<Real>(Real(1));
-    j.D2 = Interval<Real>(Real(0));
+    j.D1 = j.F1 = Bounds<Real>(Real(1));
+    j.D2 = Bounds<Real>(Real(0));
     const Real c = x.Lo + (x.Hi - x.Lo) / Real(2);
-    j.F = Interval<Real>(c);
-    j.Radius = Interval<Real>::Outward(Real(0), std::max(c - x.Lo, x.Hi - c)).Hi;
+    j.F = Bounds<Real>(c);
+    j.Radius = Bounds<Real>::Outward(Real(0), std::max(c - x.Lo, x.Hi - c)).Hi;
     return j;
   }
   // A function known only to stay within v over X.
-  static Jet Rough(const Interval<Real>& v)
+  static Jet Rough(const Bounds<Real>& v)
   {
     Jet j;
     j.V = v;
-    j.D1 = j.D2 = Interval<Real>::Whole();
+    j.D1 = j.D2 = Bounds<Real>::Whole();
     j.Smooth = j.Centred = false;
     return j;
   }
@@ -242,8 +242,8 @@ struct Jet
   {
     if (this->Smooth && this->Centred)
     {
-      const Interval<Real> r(-this->Radius, this->Radius);
-      const Interval<Real> half(Real(0), this->Radius * this->Radius / Real(2));
+      const Bounds<Real> r(-this->Radius, this->Radius);
+      const Bounds<Real> half(Real(0), this->Radius * this->Radius / Real(2));
       this->V = Intersect(this->V, this->F + this->F1 * r + this->D2 * half);
       this->D1 = Intersect(this->D1, this->F1 + this->D2 * r);
     }
@@ -299,7 +299,7 @@ template <typename Real>
 Jet<Real> operator*(const Jet<Real>& a, const Jet<Real>& b)
 {
   // (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
-  const Interval<Real> two(Real(2));
+  const Bounds<Real> two(Real(2));
   Jet<Real> j = detail::Combine(a, b);
   j.V = a.V * b.V;
   j.D1 = a.D1 * b.V + a.V * b.D1;
@@ -313,7 +313,7 @@ template <typename Real>
 Jet<Real> operator/(const Jet<Real>& a, const Jet<Real>& b)
 {
   // q = a / b: q' = (a' - q b') / b, q'' = (a'' - 2 q' b' - q b'') / b.
-  const Interval<Real> two(Real(2));
+  const Bounds<Real> two(Real(2));
   Jet<Real> j = detail::Combine(a, b);
   j.V = a.V / b.V;
   j.D1 = (a.D1 - j.V * b.D1) / b.V;
@@ -372,7 +372,7 @@ Jet<Real> operator/(const Jet<Real>& a, Real c)
 template <typename Real, typename G>
 Jet<Real> Compose(const Jet<Real>& a, G&& g)
 {
-  Interval<Real> g0, g1, g2;
+  Bounds<Real> g0, g1, g2;
   g(a.V, g0, g1, g2);
   Jet<Real> j = a;
   j.V = g0;
@@ -380,7 +380,7 @@ Jet<Real> Compose(const Jet<Real>& a, G&& g)
   j.D2 = g2 * Square(a.D1) + g1 * a.D2;
   if (j.Centred)
   {
-    Interval<Real> c1, c2;
+    Bounds<Real> c1, c2;
     g(a.F, j.F, c1, c2);
     j.F1 = c1 * a.F1;
   }
@@ -393,11 +393,11 @@ template <typename Real>
 Jet<Real> Pow(const Jet<Real>& a, Real p)
 {
   return Compose(a,
-    [p](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    [p](const Bounds<Real>& v, Bounds<Real>& g0, Bounds<Real>& g1, Bounds<Real>& g2)
     {
       g0 = Pow(v, p);
-      g1 = Interval<Real>(p) * Pow(v, p - Real(1));
-      g2 = Interval<Real>(p * (p - Real(1))) * Pow(v, p - Real(2));
+      g1 = Bounds<Real>(p) * Pow(v, p - Real(1));
+      g2 = Bounds<Real>(p * (p - Real(1))) * Pow(v, p - Real(2));
     });
 }
 
@@ -405,10 +405,10 @@ template <typename Real>
 Jet<Real> Log(const Jet<Real>& a)
 {
   return Compose(a,
-    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    [](const Bounds<Real>& v, Bounds<Real>& g0, Bounds<Real>& g1, Bounds<Real>& g2)
     {
       g0 = Log(v);
-      g1 = Interval<Real>(Real(1)) / v;
+      g1 = Bounds<Real>(Real(1)) / v;
       g2 = -Square(g1);
     });
 }
@@ -417,7 +417,7 @@ template <typename Real>
 Jet<Real> Cos(const Jet<Real>& a)
 {
   return Compose(a,
-    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    [](const Bounds<Real>& v, Bounds<Real>& g0, Bounds<Real>& g1, Bounds<Real>& g2)
     {
       g0 = Cos(v);
       g1 = -Sin(v);
@@ -429,7 +429,7 @@ template <typename Real>
 Jet<Real> Sin(const Jet<Real>& a)
 {
   return Compose(a,
-    [](const Interval<Real>& v, Interval<Real>& g0, Interval<Real>& g1, Interval<Real>& g2)
+    [](const Bounds<Real>& v, Bounds<Real>& g0, Bounds<Real>& g1, Bounds<Real>& g2)
     {
       g0 = Sin(v);
       g1 = Cos(v);

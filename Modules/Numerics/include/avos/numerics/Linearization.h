@@ -86,7 +86,7 @@ bool Linearize(Real a, Real b, Real tolerance, Real slack, Enclose&& enclose, Va
       knots.push_back({ s.R, left });
       continue;
     }
-    const std::array<Jet<Real>, Channels> f = enclose(Interval<Real>(s.L, s.R));
+    const std::array<Jet<Real>, Channels> f = enclose(Bounds<Real>(s.L, s.R));
     Real bound = Real(0);
     for (const Jet<Real>& c : f)
     {
@@ -97,7 +97,7 @@ bool Linearize(Real a, Real b, Real tolerance, Real slack, Enclose&& enclose, Va
       const std::array<Real, Channels> right = value(s.R);
       for (int c = 0; c < Channels; ++c)
       {
-        const Interval<Real>& v = f[c].V;
+        const Bounds<Real>& v = f[c].V;
         if (!(left[c] >= v.Lo - slack && left[c] <= v.Hi + slack && right[c] >= v.Lo - slack &&
               right[c] <= v.Hi + slack))
         {
