@@ -199,14 +199,25 @@ void DivergingEnds(const double rgb1[3], const double rgb2[3], avos::NodeInterpo
   }
 }
 
-// The model of VTK's colour between two nodes; false for a colour space it
-// does not model (CIEDE2000).
-bool ModelInterval(vtkColorTransferFunction* color, const double* node, const double* next,
-  bool logScale, avos::NodeInterpolation& n)
+// VTK takes a colour function's log scale only where every node is positive.
+bool UsesLogScale(vtkColorTransferFunction* color)
 {
+  return color->GetScale() == VTK_CTF_LOG10 && color->GetRange()[0] > 0.0;
+}
+} // namespace
+
+bool avos::ModelColourInterval(vtkColorTransferFunction* color, int index, NodeInterpolation& n)
+{
+  if (!color || index < 0 || index + 1 >= color->GetSize())
+  {
+    return false;
+  }
+  double node[6], next[6];
+  color->GetNodeValue(index, node);
+  color->GetNodeValue(index + 1, next);
   n.X1 = node[0];
   n.X2 = next[0];
-  n.LogScale = logScale;
+  n.LogScale = UsesLogScale(color);
   n.Midpoint = ClampMidpoint(node[4]);
   n.Sharpness = node[5];
   const double* rgb[2] = { node + 1, next + 1 };
@@ -245,6 +256,9 @@ bool ModelInterval(vtkColorTransferFunction* color, const double* node, const do
   }
   return true;
 }
+
+namespace
+{
 
 // The scalar ranges where VTK's opacity is 0 (between two nodes of opacity
 // 0, whatever their curve, and beyond an end node of opacity 0, or beyond
@@ -301,11 +315,11 @@ Ranges TransparentRanges(vtkPiecewiseFunction* opacity)
 // False, with nothing added, where the bound cannot be certified. Inside
 // the `transparent` ranges the colour takes one chord.
 template <typename Add>
-bool AddCertifiedInterval(vtkColorTransferFunction* color, const double* node, const double* next,
-  bool logScale, double xm, double tolerance, const Ranges& transparent, Add&& add)
+bool AddCertifiedInterval(vtkColorTransferFunction* color, int index, double xm, double tolerance,
+  const Ranges& transparent, Add&& add)
 {
   avos::NodeInterpolation n;
-  if (!ModelInterval(color, node, next, logScale, n))
+  if (!avos::ModelColourInterval(color, index, n))
   {
     return false;
   }
@@ -335,13 +349,13 @@ bool AddCertifiedInterval(vtkColorTransferFunction* color, const double* node, c
   };
   std::vector<avos::numerics::LinearKnot<double, 3>> knots;
   if (!avos::numerics::Linearize(
-        node[0], xm, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt) ||
+        n.X1, xm, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt) ||
     !avos::numerics::Linearize(
-      xm, next[0], tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt))
+      xm, n.X2, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt))
   {
     return false;
   }
-  add(node[0], value(node[0]).data());
+  add(n.X1, value(n.X1).data());
   for (const auto& k : knots)
   {
     add(k.X, k.Value.data());
@@ -437,8 +451,7 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
   };
   const Ranges transparent = TransparentRanges(property->GetScalarOpacity(0));
   const int space = color->GetColorSpace();
-  // VTK takes the log scale only where every node is positive.
-  const bool logScale = color->GetScale() == VTK_CTF_LOG10 && color->GetRange()[0] > 0.0;
+  const bool logScale = UsesLogScale(color);
   double first[6], last[6];
   color->GetNodeValue(0, first);
   color->GetNodeValue(n - 1, last);
@@ -476,8 +489,7 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
       continue;
     }
     if (shape == Shape::Curved && colourTolerance > 0.0 && next[0] > node[0] &&
-      AddCertifiedInterval(
-        color, node, next, logScale, xm, colourTolerance, transparent, addColour))
+      AddCertifiedInterval(color, i, xm, colourTolerance, transparent, addColour))
     {
       ++certified;
       continue;

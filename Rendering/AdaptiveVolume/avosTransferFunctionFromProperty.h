@@ -11,10 +11,13 @@
 
 #include <string> // For std::string
 
+class vtkColorTransferFunction;
 class vtkVolumeProperty;
 
 namespace avos
 {
+struct NodeInterpolation;
+
 /**
  * Fills `tf` (replacing what it held) and finalizes it. `extinction`: the
  * opacity function holds tau per voxel unit (the paper's model); otherwise it
@@ -44,6 +47,15 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel,
   avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr,
   double colourTolerance = 0.0, int* certifiedIntervals = nullptr);
+
+/**
+ * Fills `n` with the model (avosNodeInterpolation.h) of VTK's colour
+ * between nodes `index` and `index + 1` of `color`, the ends in the
+ * interpolation space computed by VTK. False for a colour space it does not
+ * model (CIEDE2000, Step) or an index without a next node.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ModelColourInterval(
+  vtkColorTransferFunction* color, int index, NodeInterpolation& n);
 
 /**
  * The share of a class's tolerance eps that the colour's conversion may

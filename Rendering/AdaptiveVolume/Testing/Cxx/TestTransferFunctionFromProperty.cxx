@@ -9,6 +9,7 @@
 // intervals are reported approximated; outside the nodes the colours and
 // opacities are VTK's (clamped, range colours, none without clamping);
 // VTK's rounding above 1 is clamped, a real excess refused.
+#include "avosNodeInterpolation.h"
 #include "avosTransferFunctionFromProperty.h"
 
 #include "vtkColorTransferFunction.h"
@@ -177,6 +178,26 @@ int TestTransferFunctionFromProperty(int, char*[])
       {
         c.Colour->AddRGBPoint(n[0], n[1], n[2], n[3], n[4], n[5]);
       }
+      // The model the bound is proven on is VTK's function: evaluated on
+      // plain numbers it gives GetColor to rounding inside every interval.
+      double modelError = 0.0;
+      for (int i = 0; i + 1 < static_cast<int>(map.Nodes.size()); ++i)
+      {
+        avos::NodeInterpolation n;
+        Expect(avos::ModelColourInterval(c.Colour, i, n), std::string(map.Name) + " is modelled");
+        for (int k = 1; k <= 2000; ++k)
+        {
+          const double x = std::min(n.X2, n.X1 + (n.X2 - n.X1) * k / 2000.0);
+          double rgb[3], model[3];
+          c.Colour->GetColor(x, rgb);
+          avos::interpolation::Evaluate(n, x, model);
+          for (int ch = 0; ch < 3; ++ch)
+          {
+            modelError = std::max(modelError, std::abs(rgb[ch] - model[ch]));
+          }
+        }
+      }
+      Expect(modelError < 1e-12, std::string(map.Name) + ": the model is GetColor");
       const double lo = map.Nodes.front()[0], hi = map.Nodes.back()[0];
       for (double tolerance : { 1e-3, 1e-4, 1e-5 })
       {
@@ -210,6 +231,9 @@ int TestTransferFunctionFromProperty(int, char*[])
              .empty() &&
         certified == 0 && c.Approximated == 1,
       "CIEDE2000 is reported approximated");
+    avos::NodeInterpolation n;
+    Expect(!avos::ModelColourInterval(c.Colour, 0, n) && !avos::ModelColourInterval(c.Colour, 1, n),
+      "CIEDE2000 is not modelled, and the last node starts no interval");
   }
   {
     // The Step space: each interval takes its second node's colour, exactly.
