@@ -270,38 +270,37 @@ using Ranges = std::vector<std::pair<double, double>>;
 Ranges TransparentRanges(vtkPiecewiseFunction* opacity)
 {
   Ranges ranges;
+  // [lo, hi], joined to the last range where they touch.
+  auto add = [&ranges](double lo, double hi)
+  {
+    if (!ranges.empty() && ranges.back().second == lo)
+    {
+      ranges.back().second = hi;
+    }
+    else
+    {
+      ranges.push_back({ lo, hi });
+    }
+  };
   const int n = opacity ? opacity->GetSize() : 0;
   const double inf = std::numeric_limits<double>::infinity();
+  const bool clamped = n > 0 && opacity->GetClamping();
   double node[4], previous[4] = { 0.0, 1.0, 0.0, 0.0 };
   for (int i = 0; i < n; ++i)
   {
     opacity->GetNodeValue(i, node);
     const bool clear = node[1] == 0.0;
-    if (i == 0 && (clear || !opacity->GetClamping()))
+    if (i == 0 && (clear || !clamped))
     {
-      ranges.push_back({ -inf, node[0] });
+      add(-inf, node[0]);
     }
     if (i > 0 && clear && previous[1] == 0.0)
     {
-      if (!ranges.empty() && ranges.back().second == previous[0])
-      {
-        ranges.back().second = node[0];
-      }
-      else
-      {
-        ranges.push_back({ previous[0], node[0] });
-      }
+      add(previous[0], node[0]);
     }
-    if (i + 1 == n && (clear || !opacity->GetClamping()))
+    if (i + 1 == n && (clear || !clamped))
     {
-      if (!ranges.empty() && ranges.back().second == node[0])
-      {
-        ranges.back().second = inf;
-      }
-      else
-      {
-        ranges.push_back({ node[0], inf });
-      }
+      add(node[0], inf);
     }
     std::copy(node, node + 4, previous);
   }
