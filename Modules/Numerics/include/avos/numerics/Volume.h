@@ -118,6 +118,88 @@ private:
   std::ptrdiff_t Sy, Sz;
 };
 
+// A field constant on each cell of its own walk grid: VTK's cell scalars
+// (one value per cell of the point grid), and point scalars read with
+// nearest interpolation (each point's value fills the part of the box
+// nearer to it than to any other point; on the point grid refined by 2,
+// every cell lies in one such part). Its walk grid has unit cells like a
+// TrilinearVolume's, so the cell walks, piece walks and integrators take it
+// as they are: its cells' corners all hold the cell's value, its cubic
+// along a ray is a constant, and a piece is a whole cell. A ray of the point
+// grid, origin + t direction, is the ray ToWalk(origin) + t ToWalk(direction)
+// here: the same t.
+template <typename Real, typename Storage>
+class CellConstantVolume
+{
+public:
+  using Point = glm::vec<3, Real>;
+
+  enum class Layout
+  {
+    Cells,        // `data` has (n - 1) values per axis, x fastest
+    NearestPoints // `data` has n values per axis, x fastest
+  };
+
+  // `pointDimensions` (n per axis) must be at least 2 on every axis.
+  CellConstantVolume(const Storage* data, const int pointDimensions[3], Layout layout)
+    : Data(data)
+    , Refine(layout == Layout::NearestPoints ? 2 : 1)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const int n = pointDimensions[a];
+      this->N[a] = layout == Layout::NearestPoints ? 2 * n - 1 : n;
+    }
+    const std::ptrdiff_t nx = layout == Layout::Cells ? pointDimensions[0] - 1 : pointDimensions[0];
+    const std::ptrdiff_t ny = layout == Layout::Cells ? pointDimensions[1] - 1 : pointDimensions[1];
+    this->Sy = nx;
+    this->Sz = nx * ny;
+  }
+
+  // Point-grid coordinates (a position or a direction) to the walk grid's.
+  Point ToWalk(const Point& p) const { return p * Real(this->Refine); }
+
+  // The value at p (walk-grid coordinates; clamped onto the box). On a face
+  // between cells it is one of theirs: a set no ray spends length in.
+  Real operator()(const Point& p) const
+  {
+    int c[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const Real last = Real(this->N[a] - 1);
+      const Real x = p[a] > Real(0) ? (p[a] < last ? p[a] : last) : Real(0);
+      c[a] = std::min(static_cast<int>(x), this->N[a] - 2);
+    }
+    return this->Value(c[0], c[1], c[2]);
+  }
+
+  // Zero inside every cell (the field's jumps at faces have no gradient).
+  glm::vec<3, Real> Gradient(const Point&) const { return glm::vec<3, Real>(Real(0)); }
+
+  // Walk-grid points along an axis.
+  int GetDimension(int axis) const { return this->N[axis]; }
+
+  void GetCorners(int i, int j, int k, Real c[8]) const
+  {
+    const Real v = this->Value(i, j, k);
+    std::fill(c, c + 8, v);
+  }
+
+private:
+  // The value of walk cell (i, j, k): with nearest points, cell i of the
+  // refined grid, [i / 2, (i + 1) / 2], is nearest to point (i + 1) / 2.
+  Real Value(int i, int j, int k) const
+  {
+    const int r = this->Refine - 1;
+    return Real(this->Data[((i + r) >> r) + ((j + r) >> r) * this->Sy + ((k + r) >> r) * this->Sz]);
+  }
+
+  const Storage* Data;
+  int Refine;
+  int N[3] = { 0, 0, 0 };
+  std::ptrdiff_t Sy = 0, Sz = 0;
+};
+
 // Clips the ray start + t step, t in [t0, t1], to the grid's box
 // [0, n - 1]^3 (slabs). False when it misses; t0 and t1 narrowed otherwise.
 // Infinite bounds are allowed (an unbounded ray); a non-finite start or step,
