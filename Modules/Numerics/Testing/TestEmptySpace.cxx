@@ -174,8 +174,7 @@ TEST(EmptySpace, BlockRangesAndClassification)
   // the grid's last point: each counted once.
   const int size = EmptySpaceMap<double>::BlockSize;
   const std::size_t shared[] = { std::size_t(size),
-    std::size_t(size + size * N[0] + size * N[0] * N[1]),
-    std::size_t(N[0] * N[1] * N[2] - 1) };
+    std::size_t(size + size * N[0] + size * N[0] * N[1]), std::size_t(N[0] * N[1] * N[2] - 1) };
   for (std::size_t i : shared)
   {
     withNaN[i] = std::nanf("");
@@ -256,6 +255,57 @@ TEST(EmptySpace, RangesKeptExactOrWidenedOutward)
   CheckRanges<double>(-1e3, 1e3, false);
   CheckRanges<double>(-1e300, 1e300, false); // beyond float: infinite bounds
   CheckRanges<std::int32_t>(-2e9, 2e9, false);
+}
+
+// Cell scalars (one per cell): a block's range is that of its own cells,
+// and each NaN cell is counted once.
+TEST(EmptySpace, CellRangesAreTheBlocksCells)
+{
+  const int C[3] = { N[0] - 1, N[1] - 1, N[2] - 1 };
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> u(0, 255);
+  std::vector<std::uint8_t> data(static_cast<std::size_t>(C[0]) * C[1] * C[2]);
+  for (std::uint8_t& v : data)
+  {
+    v = static_cast<std::uint8_t>(u(rng));
+  }
+  EmptySpaceMap<double> map;
+  map.SetDimensions(N);
+  using Samples = EmptySpaceMap<double>::Samples;
+  ASSERT_EQ(map.ComputeRanges(data.data(), Samples::Cells), 0u);
+  const int B = EmptySpaceMap<double>::BlockSize;
+  std::size_t index = 0;
+  for (int bz = 0; bz < map.GetNumberOfBlocks(2); ++bz)
+  {
+    for (int by = 0; by < map.GetNumberOfBlocks(1); ++by)
+    {
+      for (int bx = 0; bx < map.GetNumberOfBlocks(0); ++bx, ++index)
+      {
+        double lo = 255.0, hi = 0.0;
+        for (int k = bz * B; k < std::min(bz * B + B, C[2]); ++k)
+        {
+          for (int j = by * B; j < std::min(by * B + B, C[1]); ++j)
+          {
+            for (int i = bx * B; i < std::min(bx * B + B, C[0]); ++i)
+            {
+              const double v = data[i + C[0] * (j + static_cast<std::size_t>(C[1]) * k)];
+              lo = std::min(lo, v);
+              hi = std::max(hi, v);
+            }
+          }
+        }
+        ASSERT_EQ(map.GetMinimum(index), lo);
+        ASSERT_EQ(map.GetMaximum(index), hi);
+      }
+    }
+  }
+  std::vector<float> withNaN(data.begin(), data.end());
+  const std::size_t cells[] = { 0, std::size_t(B - 1), std::size_t(B), withNaN.size() - 1 };
+  for (const std::size_t i : cells)
+  {
+    withNaN[i] = std::nanf("");
+  }
+  EXPECT_EQ(map.ComputeRanges(withNaN.data(), Samples::Cells), 4u);
 }
 
 TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)

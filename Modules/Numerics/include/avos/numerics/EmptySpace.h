@@ -99,16 +99,26 @@ public:
   static constexpr std::size_t TablePadding = 3;
   const unsigned char* GetWalkTable() const { return this->Table.data(); }
 
-  // Fills every block's range from the scalars, one per grid point, x
-  // fastest; `forLayers(count, body)` runs body(begin, end) over z-layers of
-  // blocks [0, count) (layers are independent: it may run them in parallel).
-  // Returns the number of NaN grid points met. Integer scalars of 16 bits or
+  // Where the scalars sit: one per grid point, or one per cell (a field
+  // constant per cell, Volume.h's CellConstantVolume).
+  enum class Samples
+  {
+    Points,
+    Cells
+  };
+
+  // Fills every block's range from the scalars, x fastest; `forLayers(count,
+  // body)` runs body(begin, end) over z-layers of blocks [0, count) (layers
+  // are independent: it may run them in parallel). Returns the number of NaN
+  // scalars met. Integer scalars of 16 bits or
   // fewer keep their ranges as 16-bit keys (exact); any other type as floats
   // rounded outward, so that a range only widens and a block classified
   // transparent is transparent.
   template <typename Storage, typename ForLayers>
-  std::size_t ComputeRanges(const Storage* data, ForLayers&& forLayers)
+  std::size_t ComputeRanges(
+    const Storage* data, ForLayers&& forLayers, Samples samples = Samples::Points)
   {
+    const int reach = samples == Samples::Cells ? 1 : 0;
     constexpr bool keyed = std::is_integral<Storage>::value && sizeof(Storage) <= 2;
     this->KeyOffset = keyed && std::is_signed<Storage>::value ? 32768 : 0;
     if (keyed)
@@ -123,15 +133,16 @@ public:
     }
     std::atomic<std::size_t> nans(0);
     forLayers(this->Blocks[2],
-      [&](int zBegin, int zEnd) { nans += this->ComputeLayers<keyed>(data, zBegin, zEnd); });
+      [&](int zBegin, int zEnd) { nans += this->ComputeLayers<keyed>(data, reach, zBegin, zEnd); });
     return nans;
   }
 
   // The same in the calling thread.
   template <typename Storage>
-  std::size_t ComputeRanges(const Storage* data)
+  std::size_t ComputeRanges(const Storage* data, Samples samples = Samples::Points)
   {
-    return this->ComputeRanges(data, [](int count, auto&& body) { body(0, count); });
+    return this->ComputeRanges(
+      data, [](int count, auto&& body) { body(0, count); }, samples);
   }
 
   // A block's range as kept: exact for integer scalars of 16 bits or fewer,
@@ -354,12 +365,14 @@ private:
   };
 
   // The ranges of the blocks in z-layers [zBegin, zEnd), as keys or floats.
+  // A block's cells [first, last) read the points first..last, or with
+  // `reach` 1 the cells' own values first..last - 1.
   template <bool Keyed, typename Storage>
-  std::size_t ComputeLayers(const Storage* data, int zBegin, int zEnd)
+  std::size_t ComputeLayers(const Storage* data, int reach, int zBegin, int zEnd)
   {
     std::size_t nans = 0;
-    const std::ptrdiff_t sy = this->Dimensions[0];
-    const std::ptrdiff_t sz = sy * this->Dimensions[1];
+    const std::ptrdiff_t sy = this->Dimensions[0] - reach;
+    const std::ptrdiff_t sz = sy * (this->Dimensions[1] - reach);
     for (int bz = zBegin; bz < zEnd; ++bz)
     {
       for (int by = 0; by < this->Blocks[1]; ++by)
@@ -375,18 +388,18 @@ private:
             first[a] = b[a] * BlockSize;
             last[a] = std::min(first[a] + BlockSize, this->Dimensions[a] - 1);
           }
-          for (int k = first[2]; k <= last[2]; ++k)
+          for (int k = first[2]; k <= last[2] - reach; ++k)
           {
-            for (int j = first[1]; j <= last[1]; ++j)
+            for (int j = first[1]; j <= last[1] - reach; ++j)
             {
               const Storage* row = data + k * sz + j * sy;
-              for (int i = first[0]; i <= last[0]; ++i)
+              for (int i = first[0]; i <= last[0] - reach; ++i)
               {
                 const double v = double(row[i]);
                 if (v != v)
                 {
                   // Counted by the one block that owns the point (blocks
-                  // share their faces' points).
+                  // share their faces' points; a cell has one block).
                   auto owns = [&](int a, int x)
                   { return x < first[a] + BlockSize || x == this->Dimensions[a] - 1; };
                   nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
