@@ -3,7 +3,8 @@
 // (PixelRay, the map's segments, the clip region's parts, then the core's
 // integrator in double on the double volume), for the methods' fast paths
 // (a ray per lane of the piecewise and Riemann kernels) and a ray at a time
-// (clipped, adaptive, maximum intensity); the footprint holds every pixel
+// (clipped, adaptive, maximum intensity), and for fields constant per cell
+// (nearest interpolation, cell scalars); the footprint holds every pixel
 // whose ray meets the box; scalars are read in place for every type; a
 // threaded loop gives the serial loop's image to the bit.
 #include "AdversarialCases.h"
@@ -368,6 +369,120 @@ TEST(Frame, MaximumIntensityMatchesTheCore)
   EXPECT_GT(a.Opacity, 0.0);
 }
 
+// Fields constant per cell (nearest interpolation of the point scalars, and
+// cell scalars): the frame against the core in the volume's walk
+// coordinates, for the piecewise method (clipped too), Riemann and the
+// maximum; the empty-space map (the point one for nearest, the cells' own
+// for cells) skips only what is transparent: the image without it is the
+// same.
+TEST(Frame, CellConstantFieldsMatchTheCore)
+{
+  Scene scene;
+  const int* n = scene.Case.Dimensions;
+  // Cell scalars: each cell takes its lowest corner's value.
+  std::vector<double> cells;
+  for (int k = 0; k + 1 < n[2]; ++k)
+  {
+    for (int j = 0; j + 1 < n[1]; ++j)
+    {
+      for (int i = 0; i + 1 < n[0]; ++i)
+      {
+        cells.push_back(scene.Case.Data[i + n[0] * (j + static_cast<std::size_t>(n[1]) * k)]);
+      }
+    }
+  }
+  an::EmptySpaceMap<double> cellMap;
+  cellMap.SetDimensions(n);
+  cellMap.ComputeRanges(cells.data(), an::EmptySpaceMap<double>::Samples::Cells);
+  cellMap.Classify(scene.Case.TF);
+  an::PiecewiseTransferFunction<double> pieces;
+  ASSERT_EQ(pieces.Build(scene.Case.TF, an::PiecewiseRelativeError(1e-3)), "");
+  using Constant = an::CellConstantVolume<double, double>;
+  for (const ae::ScalarField field : { ae::ScalarField::Nearest, ae::ScalarField::Cells })
+  {
+    const bool nearest = field == ae::ScalarField::Nearest;
+    ae::Scalars scalars = scene.Doubles();
+    scalars.Field = field;
+    scalars.Data = nearest ? scene.Case.Data.data() : cells.data();
+    const Constant volume(static_cast<const double*>(scalars.Data), n,
+      nearest ? Constant::Layout::NearestPoints : Constant::Layout::Cells);
+    const an::EmptySpaceMap<double>& map = nearest ? scene.Map : cellMap;
+    for (const bool clipped : { false, true })
+    {
+      scene.Frame.Clip = an::ClipRegion<double>();
+      if (clipped)
+      {
+        scene.Frame.Clip.AddPlane(
+          glm::normalize(glm::dvec3(1.0, 1.0, 0.0)), -std::sqrt(2.0) * 19.5);
+      }
+      for (const ae::Integration kind : { ae::Integration::Piecewise, ae::Integration::Riemann })
+      {
+        for (const ae::Blend mode : { ae::Blend::Composite, ae::Blend::Maximum })
+        {
+          ae::FrameMethod method;
+          method.Kind = kind;
+          method.Mode = mode;
+          method.Adaptive.Tolerance = 1e-3;
+          method.TF = &scene.Case.TF;
+          method.Map = &map;
+          method.Pieces = &pieces;
+          const std::vector<float> image = Cast(scene, scalars, method, Serial);
+          const Agreement a = Compare(scene, method, image,
+            [&](const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
+            {
+              const glm::dvec3 wo = volume.ToWalk(o), wd = volume.ToWalk(d);
+              if (mode == ae::Blend::Maximum)
+              {
+                const an::RayExtremum<double> e =
+                  an::ExtremumAlongRay(volume, wo, wd, segments.data(), segments.size(), true);
+                const double alpha =
+                  std::min(std::max(scene.Case.TF.GetOpacityValue(e.Value), 0.0), 1.0);
+                return e.Found ? glm::dvec4(scene.Case.TF.GetColor(e.Value) * alpha, alpha)
+                               : glm::dvec4(0.0);
+              }
+              if (kind == ae::Integration::Riemann)
+              {
+                if (clipped)
+                {
+                  // Riemann restarts at the clip plane (ClippedRiemann):
+                  // the frame's own ray a time is the reference below.
+                  return glm::dvec4(-1.0);
+                }
+                const an::RayField<double, Constant> f{ volume, wo, wd };
+                return an::IntegrateRiemann(f, scene.Case.TF, D, 0.5, an::RiemannForm::Exponential,
+                  segments.data(), segments.size(), 0.0)
+                  .RGBA;
+              }
+              return an::IntegratePiecewise(
+                volume, wo, wd, segments.data(), segments.size(), pieces, 1e-3)
+                .RGBA;
+            });
+          const bool skipCore =
+            clipped && kind == ae::Integration::Riemann && mode == ae::Blend::Composite;
+          if (!skipCore)
+          {
+            EXPECT_LE(a.Error, ImageRounding)
+              << "nearest " << nearest << " clipped " << clipped << " kind "
+              << static_cast<int>(kind) << " mode " << static_cast<int>(mode);
+            EXPECT_GT(a.Opacity, 0.2);
+          }
+          method.Map = nullptr;
+          const std::vector<float> unskipped = Cast(scene, scalars, method, Serial);
+          double skipped = 0.0;
+          for (std::size_t i = 0; i < image.size(); ++i)
+          {
+            skipped = std::max(skipped, static_cast<double>(std::abs(image[i] - unskipped[i])));
+          }
+          // The piecewise method within its eps of the whole ray's integral;
+          // Riemann and the maximum sample the same values.
+          EXPECT_LE(skipped, kind == ae::Integration::Piecewise ? 1e-3 : 1e-6)
+            << "nearest " << nearest << " clipped " << clipped;
+        }
+      }
+    }
+  }
+}
+
 TEST(Frame, ThreadedLoopGivesTheSerialImage)
 {
   const Scene scene;
@@ -429,5 +544,22 @@ TEST(Frame, RefusesWhatItCannotCast)
   EXPECT_NE(ae::Validate(flat, method), "");
   flat.Data = nullptr;
   EXPECT_NE(ae::Validate(flat, method), "");
+  // A field constant per cell: no kernels, no shading (no gradient).
+  ae::Scalars nearest = scene.Doubles();
+  nearest.Field = ae::ScalarField::Nearest;
+  EXPECT_EQ(ae::Validate(nearest, method), "");
+  const ae::Volume bytes = scene.EngineBytes();
+  ae::TransferTable table;
+  ASSERT_EQ(table.Build(scene.Case.TF), "");
+  method.EngineVolume = &bytes;
+  method.EngineTable = &table;
+  EXPECT_EQ(ae::Validate(scene.Doubles(), method), "");
+  EXPECT_NE(ae::Validate(nearest, method), "");
+  method.EngineVolume = nullptr;
+  method.EngineTable = nullptr;
+  const an::ShadingModel<double> shading;
+  method.Shading = &shading;
+  EXPECT_EQ(ae::Validate(scene.Doubles(), method), "");
+  EXPECT_NE(ae::Validate(nearest, method), "");
 }
 } // namespace

@@ -48,6 +48,47 @@ void DispatchScalars(const Scalars& scalars, F&& f)
   }
 }
 
+// Calls f(volume) with the field of the scalars: the trilinear interpolant,
+// or a field constant per cell (avos/numerics/Volume.h).
+template <typename F>
+void DispatchVolume(const Scalars& scalars, F&& f)
+{
+  DispatchScalars(scalars,
+    [&](const auto* data)
+    {
+      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+      using Constant = an::CellConstantVolume<double, Storage>;
+      switch (scalars.Field)
+      {
+        case ScalarField::Trilinear:
+          return f(an::TrilinearVolume<double, Storage>(data, scalars.Dimensions));
+        case ScalarField::Nearest:
+          return f(Constant(data, scalars.Dimensions, Constant::Layout::NearestPoints));
+        case ScalarField::Cells:
+          return f(Constant(data, scalars.Dimensions, Constant::Layout::Cells));
+      }
+    });
+}
+
+// A point-grid position or direction in the volume's walk coordinates (the
+// same t), and whether those are the point grid's, whose cells the
+// empty-space map's blocks hold.
+template <typename Storage>
+glm::dvec3 ToWalk(const an::TrilinearVolume<double, Storage>&, const glm::dvec3& p)
+{
+  return p;
+}
+template <typename Storage>
+glm::dvec3 ToWalk(const an::CellConstantVolume<double, Storage>& volume, const glm::dvec3& p)
+{
+  return volume.ToWalk(p);
+}
+template <typename VolumeT>
+bool WalksPointCells(const VolumeT& volume)
+{
+  return ToWalk(volume, glm::dvec3(1.0)) == glm::dvec3(1.0);
+}
+
 glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
 {
   glm::dvec4 r;
@@ -60,11 +101,11 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
 
 // Calls f(field) with the ray start + t direction's field (grid coordinates):
 // shaded when the method shades, the scalar alone otherwise.
-template <typename Storage, typename F>
-an::RayResult<double> WithField(const an::TrilinearVolume<double, Storage>& volume,
-  const FrameMethod& method, const glm::dvec3& start, const glm::dvec3& direction, F&& f)
+template <typename VolumeT, typename F>
+an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method,
+  const glm::dvec3& start, const glm::dvec3& direction, F&& f)
 {
-  using Volume = an::TrilinearVolume<double, Storage>;
+  using Volume = VolumeT;
   if (method.Shading)
   {
     const glm::dvec3 toViewer = -glm::normalize(method.GridToWorld * direction);
@@ -77,10 +118,10 @@ an::RayResult<double> WithField(const an::TrilinearVolume<double, Storage>& volu
 // The Riemann sum over the kept parts of a ray, each its own ray from its
 // entry (as VTK's mappers start a clipped ray at the plane), front to back;
 // `segments` are the visible ones of [0, D].
-template <typename Storage>
-void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const FrameMethod& method,
-  const glm::dvec3& origin, const glm::dvec3& direction, const Segments& segments,
-  RayScratch& scratch, an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
+template <typename VolumeT>
+void ClippedRiemann(const VolumeT& volume, const FrameMethod& method, const glm::dvec3& origin,
+  const glm::dvec3& direction, const Segments& segments, RayScratch& scratch,
+  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
   const an::TransferFunction<double>& tf = *method.TF;
   // The sums' own termination test, on the whole ray's transmittance.
@@ -150,10 +191,9 @@ void ClippedRiemann(const an::TrilinearVolume<double, Storage>& volume, const Fr
 // The additive and average projections, shown as VTK's GPU mapper shows
 // them: grey, clamped to [0, 1], opaque wherever the ray meets the volume
 // (the average: the range).
-template <typename Storage>
-void Accumulate(const an::TrilinearVolume<double, Storage>& volume, const FrameMethod& method,
-  const glm::dvec3& origin, const glm::dvec3& direction, const Segments& segments,
-  an::RayResult<double>& result)
+template <typename VolumeT>
+void Accumulate(const VolumeT& volume, const FrameMethod& method, const glm::dvec3& origin,
+  const glm::dvec3& direction, const Segments& segments, an::RayResult<double>& result)
 {
   an::Accumulation<double> a;
   if (method.Mode == Blend::Additive)
@@ -180,15 +220,15 @@ void Accumulate(const an::TrilinearVolume<double, Storage>& volume, const FrameM
 
 // The exact extremum of the ray's scalar, shown as VTK's mappers show a
 // projection: its colour times the opacity function's value there.
-template <typename Storage>
-void Extremum(const an::TrilinearVolume<double, Storage>& volume, const FrameMethod& method,
-  const glm::dvec3& origin, const glm::dvec3& direction, double D, RayScratch& scratch,
-  an::RayResult<double>& result)
+template <typename VolumeT>
+void Extremum(const VolumeT& volume, const FrameMethod& method, const glm::dvec3& origin,
+  const glm::dvec3& direction, double D, RayScratch& scratch, an::RayResult<double>& result)
 {
   const Segments& segments = scratch.Visible;
   const bool maximum = method.Mode == Blend::Maximum;
-  // Blocks best first where the map gives their ranges.
-  const an::RayExtremum<double> e = method.Map
+  // Blocks best first where the map gives their ranges (its blocks are
+  // the volume's cells: the ray is the same in both).
+  const an::RayExtremum<double> e = method.Map && WalksPointCells(volume)
     ? an::ExtremumByBlocks(volume, *method.Map, origin, direction, D, SegmentPad, segments.data(),
         segments.size(), maximum, scratch.Spans)
     : an::ExtremumAlongRay(volume, origin, direction, segments.data(), segments.size(), maximum);
@@ -203,10 +243,10 @@ void Extremum(const an::TrilinearVolume<double, Storage>& volume, const FrameMet
 }
 
 // The composite integral of the ray over `segments` by the method.
-template <typename Storage>
-void Composite(const an::TrilinearVolume<double, Storage>& volume, const FrameMethod& method,
-  const glm::dvec3& origin, const glm::dvec3& direction, double D, const Segments& segments,
-  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
+template <typename VolumeT>
+void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec3& origin,
+  const glm::dvec3& direction, double D, const Segments& segments, an::RayResult<double>& result,
+  std::vector<an::StepRecord<double>>* steps)
 {
   const an::TransferFunction<double>& tf = *method.TF;
   switch (method.Kind)
@@ -255,12 +295,15 @@ void Composite(const an::TrilinearVolume<double, Storage>& volume, const FrameMe
   }
 }
 
-template <typename Storage>
-void Integrate(const an::TrilinearVolume<double, Storage>& volume,
-  const an::ClipRegion<double>& clip, const FrameMethod& method, const glm::dvec3& origin,
-  const glm::dvec3& direction, double D, RayScratch& scratch, an::RayResult<double>& result,
-  std::vector<an::StepRecord<double>>* steps)
+// The ray origin + t direction (point-grid coordinates) through the volume
+// by the method: the map's segments and the clip region in the point grid,
+// the integrals in the volume's walk coordinates.
+template <typename VolumeT>
+void Integrate(const VolumeT& volume, const an::ClipRegion<double>& clip, const FrameMethod& method,
+  const glm::dvec3& origin, const glm::dvec3& direction, double D, RayScratch& scratch,
+  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
+  const glm::dvec3 o = ToWalk(volume, origin), d = ToWalk(volume, direction);
   Segments& segments = scratch.Visible;
   const bool projection = method.Mode != Blend::Composite;
   if (!WalksSegments(method))
@@ -272,7 +315,7 @@ void Integrate(const an::TrilinearVolume<double, Storage>& volume,
     clip.Kept(origin, direction, D, scratch.Kept);
     if (method.Kind == Integration::Riemann && !projection)
     {
-      ClippedRiemann(volume, method, origin, direction, segments, scratch, result, steps);
+      ClippedRiemann(volume, method, o, d, segments, scratch, result, steps);
       return;
     }
     // The other methods integrate exactly the segments they are given (tau
@@ -286,15 +329,15 @@ void Integrate(const an::TrilinearVolume<double, Storage>& volume,
   }
   if (method.Mode == Blend::Additive || method.Mode == Blend::Average)
   {
-    Accumulate(volume, method, origin, direction, segments, result);
+    Accumulate(volume, method, o, d, segments, result);
   }
   else if (projection)
   {
-    Extremum(volume, method, origin, direction, D, scratch, result);
+    Extremum(volume, method, o, d, D, scratch, result);
   }
   else
   {
-    Composite(volume, method, origin, direction, D, segments, result, steps);
+    Composite(volume, method, o, d, D, segments, result, steps);
   }
 }
 
@@ -342,14 +385,14 @@ struct FrameCaster::Scratch
 namespace
 {
 // Casts tiles of one frame with a scratch at a time.
-template <typename Storage>
+template <typename VolumeT>
 class TileCaster
 {
 public:
   using Scratch = FrameCaster::Scratch;
 
-  TileCaster(const Frame& frame, const Scalars& scalars, const FrameMethod& method, float* image)
-    : Volume(static_cast<const Storage*>(scalars.Data), scalars.Dimensions)
+  TileCaster(const Frame& frame, const VolumeT& volume, const FrameMethod& method, float* image)
+    : Volume(volume)
     , TheFrame(frame)
     , Method(method)
     , Image(image)
@@ -493,7 +536,7 @@ private:
     }
   }
 
-  an::TrilinearVolume<double, Storage> Volume;
+  const VolumeT& Volume;
   const Frame& TheFrame;
   const FrameMethod& Method;
   float* Image;
@@ -624,6 +667,20 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
   {
     return "the piecewise rays per lane need the kernels' scalars and the pieces";
   }
+  if (scalars.Field != ScalarField::Trilinear)
+  {
+    // The kernels read the trilinear interpolant; shading needs its
+    // gradient, which a field constant per cell does not have.
+    if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
+    {
+      return "the engine's kernels read the trilinear interpolant of point scalars only";
+    }
+    if (method.Shading)
+    {
+      return "a field constant per cell (cell scalars, nearest interpolation) has no gradient to "
+             "shade with";
+    }
+  }
   return std::string();
 }
 
@@ -631,13 +688,9 @@ void IntegrateRay(const Scalars& scalars, const an::ClipRegion<double>& clip,
   const FrameMethod& method, const glm::dvec3& origin, const glm::dvec3& direction, double D,
   RayScratch& scratch, an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
-  DispatchScalars(scalars,
-    [&](const auto* data)
-    {
-      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      const an::TrilinearVolume<double, Storage> volume(data, scalars.Dimensions);
-      Integrate(volume, clip, method, origin, direction, D, scratch, result, steps);
-    });
+  DispatchVolume(scalars,
+    [&](const auto& volume)
+    { Integrate(volume, clip, method, origin, direction, D, scratch, result, steps); });
 }
 
 FrameCaster::FrameCaster() = default;
@@ -675,11 +728,10 @@ FrameStatistics FrameCaster::Cast(const Frame& frame, const Scalars& scalars,
   {
     scratch->Statistics = FrameStatistics();
   }
-  DispatchScalars(scalars,
-    [&](const auto* data)
+  DispatchVolume(scalars,
+    [&](const auto& volume)
     {
-      using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      const TileCaster<Storage> caster(frame, scalars, method, image);
+      const TileCaster<std::decay_t<decltype(volume)>> caster(frame, volume, method, image);
       loop(Tiles(frame),
         [&](std::int64_t begin, std::int64_t end)
         {

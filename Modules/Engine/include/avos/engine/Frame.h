@@ -56,13 +56,24 @@ enum class ScalarType
   Float64
 };
 
-// A single-component scalar volume read in place: one value per grid point,
-// x fastest.
+// How scalars fill the grid's box (VTK's array association and the
+// property's interpolation type).
+enum class ScalarField
+{
+  Trilinear, // point scalars, the trilinear interpolant (linear interpolation)
+  Nearest,   // point scalars, each point's value nearest to it (nearest)
+  Cells      // cell scalars, one value per cell (either interpolation)
+};
+
+// A single-component scalar volume read in place, x fastest: one value per
+// grid point, or per cell for ScalarField::Cells. Dimensions are the grid
+// points' (the box) in every field.
 struct Scalars
 {
   const void* Data = nullptr;
   ScalarType Type = ScalarType::Float32;
   int Dimensions[3] = { 0, 0, 0 };
+  ScalarField Field = ScalarField::Trilinear;
 };
 
 // How a ray is integrated (vtkAdaptiveVolumeMapper's IntegrationMethod).
