@@ -16,26 +16,29 @@ void ForLayers(int count, const std::function<void(int, int)>& body)
 }
 }
 
-bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3])
+bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], bool cells)
 {
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
   if (scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
-    dims == this->Dimensions)
+    dims == this->Dimensions && cells == this->Cells)
   {
     return true;
   }
   this->Map.SetDimensions(dimensions);
   std::size_t nans = 0;
+  using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
+  const Samples samples = cells ? Samples::Cells : Samples::Points;
   switch (scalars->GetDataType())
   {
     vtkTemplateMacro(nans = this->Map.ComputeRanges(
-                       static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)), ForLayers));
+                       static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)), ForLayers, samples));
     default:
       return false;
   }
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();
   this->Dimensions = dims;
+  this->Cells = cells;
   this->NaNCount = nans;
   this->Time.Modified();
   return true;

@@ -22,12 +22,12 @@ class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EmptySpaceRanges
 {
 public:
   /// Brings the ranges up to date for the scalars (single component, one per
-  /// grid point of `dimensions`). False, with nothing changed, for a scalar
-  /// type the map cannot read.
-  bool Update(vtkDataArray* scalars, const int dimensions[3]);
+  /// grid point of `dimensions`, or one per cell for `cells`). False, with
+  /// nothing changed, for a scalar type the map cannot read.
+  bool Update(vtkDataArray* scalars, const int dimensions[3], bool cells = false);
 
   avos::numerics::EmptySpaceMap<double>& GetMap() { return this->Map; }
-  /// NaN grid points met by the last rebuild.
+  /// NaN scalars met by the last rebuild.
   std::size_t GetNaNCount() const { return this->NaNCount; }
   /// When the ranges were last rebuilt.
   vtkMTimeType GetTime() const { return this->Time.GetMTime(); }
@@ -37,6 +37,7 @@ private:
   vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
   vtkMTimeType ScalarsTime = 0;
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
+  bool Cells = false;
   std::size_t NaNCount = 0;
   vtkTimeStamp Time;
 };

@@ -535,13 +535,14 @@ bool UsesGradientOpacity(vtkVolumeProperty* property)
 }
 } // namespace
 
-std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, bool shading)
+std::string avos::UnsupportedPropertySettings(
+  vtkVolumeProperty* property, bool shading, bool nearest)
 {
   if (!property)
   {
     return std::string();
   }
-  if (property->GetInterpolationType() != VTK_LINEAR_INTERPOLATION)
+  if (property->GetInterpolationType() != VTK_LINEAR_INTERPOLATION && !nearest)
   {
     return "Only trilinear interpolation is supported (the integrals are those of the trilinear "
            "field): call the property's SetInterpolationTypeToLinear()";

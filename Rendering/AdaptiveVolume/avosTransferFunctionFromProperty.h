@@ -83,13 +83,14 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ApproximationNotice(int approxima
 
 /**
  * Empty, or a sentence (no final stop) naming the property's settings that the ray
- * integrals do not honour (never ignored): nearest interpolation, a
+ * integrals do not honour (never ignored): nearest interpolation unless
+ * `nearest` (the caller integrates the field constant per point region), a
  * gradient opacity that changes anything (VTK's default constant 1 is
  * accepted), a 2D transfer function, UseClippedVoxelIntensity, and shading
  * unless `shading` (the caller lights the emission).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading = false);
+  vtkVolumeProperty* property, bool shading = false, bool nearest = false);
 }
 
 #endif

@@ -12,11 +12,6 @@ std::string avos::ValidateVolumeInput(vtkImageData* image, vtkDataArray* scalars
   {
     return "the input has no scalars to render";
   }
-  if (cellScalars)
-  {
-    return "cell scalars are not supported: the integrals are those of the trilinear "
-           "interpolant of point scalars";
-  }
   std::ostringstream message;
   if (scalars->GetNumberOfComponents() != 1)
   {
@@ -25,12 +20,15 @@ std::string avos::ValidateVolumeInput(vtkImageData* image, vtkDataArray* scalars
     return message.str();
   }
   const int* dims = image->GetDimensions();
+  const int c = cellScalars ? 1 : 0;
   if (dims[0] < 2 || dims[1] < 2 || dims[2] < 2 ||
-    scalars->GetNumberOfTuples() != static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2])
+    scalars->GetNumberOfTuples() !=
+      static_cast<vtkIdType>(dims[0] - c) * (dims[1] - c) * (dims[2] - c))
   {
-    message << "the input must have at least 2 points along each axis and one scalar per point; "
-               "its dimensions are "
-            << dims[0] << " x " << dims[1] << " x " << dims[2];
+    message << "the input must have at least 2 points along each axis and one scalar per "
+            << (cellScalars ? "cell" : "point") << "; its dimensions are " << dims[0] << " x "
+            << dims[1] << " x " << dims[2] << " points, with " << scalars->GetNumberOfTuples()
+            << " scalars";
     return message.str();
   }
   const double* spacing = image->GetSpacing();

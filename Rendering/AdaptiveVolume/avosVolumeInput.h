@@ -14,8 +14,9 @@ class vtkImageData;
 namespace avos
 {
 /// Why `scalars` of `image` cannot be rendered, or empty: they must exist,
-/// be point scalars (`cellScalars` false) of one component, one per point
-/// of at least 2 points along each axis, on a non-zero, finite spacing.
+/// be of one component, one per point (one per cell for `cellScalars`), on
+/// a grid of at least 2 points along each axis with a non-zero, finite
+/// spacing. Whether cell scalars are rendered is the caller's to say.
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ValidateVolumeInput(
   vtkImageData* image, vtkDataArray* scalars, bool cellScalars);
 }

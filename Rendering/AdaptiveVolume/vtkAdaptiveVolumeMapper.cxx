@@ -170,8 +170,9 @@ public:
   // ValidateSettings: the adaptive rule's settings.
   an::AdaptiveSettings<double> Adaptive;
 
-  // UpdateInput: the input's scalars and grid.
+  // UpdateInput: the input's scalars (per point, or per cell) and grid.
   vtkDataArray* Scalars = nullptr;
+  bool CellData = false;
   int Dimensions[3] = { 0, 0, 0 };
 
   // UpdateGeometry: grid to world and back, the voxel unit; the clipping
@@ -186,8 +187,9 @@ public:
   double DataRange[2] = { 0.0, 1.0 };
   avos::engine::Scalars View;
 
-  // UpdateProperty: the transfer function and the blocks' visibility; the
-  // shading of the frame (FrameMethod::Shading points here) and its key.
+  // UpdateProperty: the scalars' field (View.Field), the transfer function
+  // and the blocks' visibility; the shading of the frame
+  // (FrameMethod::Shading points here) and its key.
   TransferFunction TF;
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
@@ -425,6 +427,7 @@ vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
   }
   input->GetDimensions(internals.Dimensions);
   internals.Scalars = scalars;
+  internals.CellData = cellFlag != 0;
   return input;
 }
 
@@ -486,19 +489,22 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars()
   vtkInternals& internals = *this->Internals;
   vtkDataArray* scalars = internals.Scalars;
   // The empty-space ranges, when the scalars changed.
-  if (!internals.Ranges.Update(scalars, internals.Dimensions) ||
+  if (!internals.Ranges.Update(scalars, internals.Dimensions, internals.CellData) ||
     !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View))
   {
     vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
     return false;
   }
-  // NaN: the interpolant is undefined in every cell with a NaN corner, and
-  // each method takes such a cell as empty (transparent). Said once per
-  // change of the scalars.
+  // NaN: the field is undefined in every cell with a NaN corner (a NaN
+  // cell, a NaN point's nearest region), and each method takes it as empty
+  // (transparent). Said once per change of the scalars.
   if (internals.Ranges.GetNaNCount() > 0 && internals.NaNReported != internals.Ranges.GetTime())
   {
     vtkWarningMacro(<< "The input has " << internals.Ranges.GetNaNCount()
-                    << " NaN scalars: the cells they touch are rendered transparent.");
+                    << (internals.CellData
+                           ? " NaN cell scalars: those cells are rendered transparent."
+                           : " NaN scalars: the cells they touch are rendered transparent (with "
+                             "nearest interpolation, the regions nearest to them)."));
   }
   internals.NaNReported = internals.Ranges.GetTime();
   // Bounds of the trilinear field, and the projections' normalisation.
@@ -511,14 +517,28 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& internals = *this->Internals;
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  const std::string unsupported = avos::UnsupportedPropertySettings(property, true);
+  const std::string unsupported = avos::UnsupportedPropertySettings(property, true, true);
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
     return false;
   }
+  // Cell scalars are constant per cell whatever the interpolation (one
+  // value per cell: VTK's GPU mapper's nearest reading); point scalars are
+  // trilinear, or constant on each point's nearest region.
+  using Field = avos::engine::ScalarField;
+  internals.View.Field = internals.CellData                         ? Field::Cells
+    : property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? Field::Nearest
+                                                                    : Field::Trilinear;
   internals.Shade = property->GetShade(0) != 0;
   internals.ShadingKey.clear();
+  if (internals.Shade && internals.View.Field != Field::Trilinear)
+  {
+    vtkErrorMacro(<< "Cannot shade: a field constant per cell (cell scalars or nearest "
+                     "interpolation) has no gradient inside its cells; shade point scalars "
+                     "with linear interpolation.");
+    return false;
+  }
   if (internals.Shade)
   {
     const std::string error = PrepareShading(ren, property, this->BlendMode,
@@ -624,8 +644,10 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // indices take the scalar sum; shaded sums too: the kernels do not shade),
   // and the scalars alone for the piecewise method's cells where they are 8-
   // or 16-bit unsigned (the only ones the cells' kernel reads).
-  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade;
-  const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE &&
+  // (The kernels read the trilinear interpolant only.)
+  const bool trilinear = internals.View.Field == avos::engine::ScalarField::Trilinear;
+  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade && trilinear;
+  const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && trilinear &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
   const avos::engine::Volume* kernelScalars =
     riemann || cells ? internals.EngineScalars.Update(scalars, internals.Dimensions) : nullptr;

@@ -13,9 +13,19 @@
  *
  * Units. Steps and tolerances are in voxel units: one voxel unit is the
  * world-space length of the shortest grid step (the smallest spacing, times
- * the vtkVolume's scale). Rays are cast through pixel centres, scalars are
- * interpolated trilinearly, and the result is RGB = integrated colour I,
- * A = 1 - T over a black background, composited over the scene.
+ * the vtkVolume's scale). Rays are cast through pixel centres, and the
+ * result is RGB = integrated colour I, A = 1 - T over a black background,
+ * composited over the scene.
+ *
+ * The field. Point scalars with the property's linear interpolation are
+ * interpolated trilinearly; with nearest interpolation (vtkVolumeProperty's
+ * default) each point's value fills the part of the box nearest to it. Cell
+ * scalars are constant on each cell with either interpolation (one value
+ * per cell, as VTK's GPU mapper reads them with nearest interpolation; with
+ * linear interpolation it blends the cells' values between their centres,
+ * which this mapper does not). A field constant per cell is integrated in
+ * one piece per cell (or nearest region), exactly by the piecewise method;
+ * it has no gradient to shade with.
  *
  * Opacity model. With SetOpacityModelToVTK() (the default) the scalar
  * opacity function is VTK's: an opacity accumulated over the property's
@@ -62,8 +72,9 @@
  * projections and positional lights refuse it.
  *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
- * supported (an error says so and nothing is drawn): multi-component or cell
- * scalars, the isosurface and slice blend modes, clipping planes with a
+ * supported (an error says so and nothing is drawn): multi-component
+ * scalars, shading a field constant per cell, the isosurface and slice
+ * blend modes, clipping planes with a
  * transform, cropping of inputs with a direction matrix or negative spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper

@@ -130,6 +130,11 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     return invalid;
   }
+  if (cellFlag != 0)
+  {
+    return "cell scalars are not supported by the GPU mapper (its texture holds point scalars); "
+           "vtkAdaptiveVolumeMapper renders them";
+  }
   float scale, bias;
   if (!TexelToScalar(scalars->GetDataType(), scale, bias))
   {

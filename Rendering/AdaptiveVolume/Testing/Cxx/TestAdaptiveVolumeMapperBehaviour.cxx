@@ -583,7 +583,11 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   expectError("clipped voxel intensity", "UseClippedVoxelIntensity");
   scene.Property->UseClippedVoxelIntensityOff();
   scene.Property->SetInterpolationTypeToNearest();
-  expectError("nearest interpolation", "Only trilinear interpolation");
+  scene.Property->ShadeOn();
+  expectError("shaded nearest interpolation", "Cannot shade: a field constant per cell");
+  scene.Property->ShadeOff();
+  scene.Window->Render();
+  Expect(errors.None("nearest interpolation"), "nearest interpolation is rendered");
   scene.Property->SetInterpolationTypeToLinear();
   // VTK's default gradient opacity (constant 1, created on first access)
   // changes nothing and is accepted; a real one is refused.

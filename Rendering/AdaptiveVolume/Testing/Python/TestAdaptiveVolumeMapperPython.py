@@ -5,7 +5,8 @@ reported and renders nothing. The piecewise method agrees with the
 reference within its tolerance, with fewer samples than the paper's coupled
 rule at the same tolerance, and reports its cells and pieces. Clipping
 planes and cropping cut the image, and moving a plane recasts it; shading
-is refused, not ignored."""
+is refused, not ignored. Nearest interpolation and cell scalars render
+their own fields."""
 
 import avos
 from vtkmodules.test import Testing
@@ -13,6 +14,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
                                          vtkVolume, vtkVolumeProperty)
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction, vtkPlane
+from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
 
@@ -202,6 +204,36 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
         self.assertEqual(self.render(), [])
         self.assertEqual(len(errors), 1)
+
+    def test_nearest_interpolation_and_cell_scalars(self):
+        # VTK's default interpolation (nearest) and cell scalars render, each
+        # as its own field: the piecewise method within eps of the reference
+        # on the same field, and the nearest image is not the trilinear one.
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        self.mapper.SetTolerance(1e-3)
+        trilinear = self.render()
+        self.prop.SetInterpolationType(vtkVolumeProperty().GetInterpolationType())
+        self.assertEqual(self.prop.GetInterpolationTypeAsString(), "Nearest Neighbor")
+        fields = {"nearest": self.mapper.GetInputConnection(0, 0)}
+        cells = vtkPointDataToCellData()
+        cells.SetInputConnection(fields["nearest"])
+        cells.ProcessAllArraysOn()
+        fields["cell scalars"] = cells.GetOutputPort()
+        for name, port in fields.items():
+            with self.subTest(field=name):
+                self.mapper.SetInputConnection(port)
+                self.mapper.SetIntegrationMethodToReference()
+                reference = self.render()
+                self.assertGreater(max(reference), 0.2)
+                self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+                piecewise = self.render()
+                error = max(abs(a - r) for a, r in zip(piecewise, reference))
+                self.assertLessEqual(error, 1e-3)
+                self.assertGreater(max(abs(a - b) for a, b in zip(piecewise, trilinear)), 0.02)
+        self.assertEqual(errors, [])
 
     def test_bad_tolerance_is_reported(self):
         errors = []

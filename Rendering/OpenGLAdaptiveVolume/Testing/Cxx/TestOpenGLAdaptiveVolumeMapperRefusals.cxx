@@ -10,6 +10,7 @@
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
+#include "vtkPointDataToCellData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
@@ -131,6 +132,12 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   toShort->SetOutputScalarTypeToShort();
   refused(
     "short scalars", "vtkImageCast", [&] { mapper->SetInputConnection(toShort->GetOutputPort()); },
+    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+  vtkNew<vtkPointDataToCellData> toCells;
+  toCells->SetInputConnection(source->GetOutputPort());
+  refused(
+    "cell scalars", "cell scalars are not supported by the GPU mapper",
+    [&] { mapper->SetInputConnection(toCells->GetOutputPort()); },
     [&] { mapper->SetInputConnection(source->GetOutputPort()); });
   vtkNew<vtkPiecewiseFunction> empty;
   refused(
