@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -221,6 +222,89 @@ TEST(CellConstant, ExtremumIsTheCrossedRegionsExtremum)
         volume, volume.ToWalk(ray.Origin), volume.ToWalk(ray.Direction), &whole, 1, true);
       ASSERT_TRUE(e.Found);
       EXPECT_EQ(e.Value, hi);
+    }
+  }
+}
+
+namespace
+{
+// VTK's GPU mapper's linear reading of cell scalars at p (point-grid
+// coordinates): a texture with one texel per cell over the box, texel
+// centres at the cell centres, clamped to the edge, filtered linearly.
+double Texture(const std::vector<double>& cells, const int points[3], const glm::dvec3& p)
+{
+  int i0[3], i1[3];
+  double f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = points[a] - 1;
+    const double u = std::min(std::max(p[a] - 0.5, 0.0), n - 1.0);
+    i0[a] = std::min(static_cast<int>(std::floor(u)), n - 1);
+    i1[a] = std::min(i0[a] + 1, n - 1);
+    f[a] = u - i0[a];
+  }
+  const int nx = points[0] - 1, ny = points[1] - 1;
+  auto at = [&](int x, int y, int z) { return cells[x + nx * (y + ny * z)]; };
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c)
+  {
+    const int x = c & 1, y = (c >> 1) & 1, z = (c >> 2) & 1;
+    v += (x ? f[0] : 1 - f[0]) * (y ? f[1] : 1 - f[1]) * (z ? f[2] : 1 - f[2]) *
+      at(x ? i1[0] : i0[0], y ? i1[1] : i0[1], z ? i1[2] : i0[2]);
+  }
+  return v;
+}
+} // namespace
+
+// Cell scalars read linearly: the texture's values everywhere, and the
+// piecewise method's integral that of the trilinear volume of the texture's
+// values on the refined grid (the same field, built independently).
+TEST(CellConstant, CellCentredIsVTKsLinearTexture)
+{
+  std::mt19937 rng(8);
+  for (const auto& dims : { std::array<int, 3>{ 6, 5, 7 }, std::array<int, 3>{ 2, 4, 3 } })
+  {
+    const int* n = dims.data();
+    std::vector<double> cells(static_cast<std::size_t>(n[0] - 1) * (n[1] - 1) * (n[2] - 1));
+    std::uniform_real_distribution<double> value(0.0, 255.0), u(0.0, 1.0);
+    for (double& v : cells)
+    {
+      v = value(rng);
+    }
+    const an::CellCentredVolume<double, double> volume(cells.data(), n);
+    for (int i = 0; i < 2000; ++i)
+    {
+      const glm::dvec3 p(u(rng) * (n[0] - 1), u(rng) * (n[1] - 1), u(rng) * (n[2] - 1));
+      ASSERT_NEAR(volume(volume.ToWalk(p)), Texture(cells, n, p), 1e-12);
+    }
+    const int refined[3] = { 2 * n[0] - 1, 2 * n[1] - 1, 2 * n[2] - 1 };
+    std::vector<double> grid;
+    for (int k = 0; k < refined[2]; ++k)
+    {
+      for (int j = 0; j < refined[1]; ++j)
+      {
+        for (int i = 0; i < refined[0]; ++i)
+        {
+          grid.push_back(Texture(cells, n, glm::dvec3(0.5 * i, 0.5 * j, 0.5 * k)));
+        }
+      }
+    }
+    const an::TrilinearVolume<double, double> explicitGrid(grid.data(), refined);
+    const an::TransferFunction<double> tf = Layers(an::OpacityModel::Extinction);
+    an::PiecewiseTransferFunction<double> pieces;
+    const double eps = an::PiecewiseReferenceTolerance<double>();
+    ASSERT_EQ(pieces.Build(tf, an::PiecewiseRelativeError(eps)), "");
+    for (int i = 0; i < 200; ++i)
+    {
+      const adversarial::Ray ray = adversarial::RandomRay(n, rng, 0.5);
+      const glm::dvec3 o = volume.ToWalk(ray.Origin), d = volume.ToWalk(ray.Direction);
+      const auto a = an::IntegratePiecewise(volume, o, d, ray.Length, pieces, eps, false);
+      const auto b = an::IntegratePiecewise(explicitGrid, o, d, ray.Length, pieces, eps, false);
+      ASSERT_EQ(a.Error, "");
+      for (int c = 0; c < 4; ++c)
+      {
+        ASSERT_NEAR(a.RGBA[c], b.RGBA[c], 1e-9);
+      }
     }
   }
 }

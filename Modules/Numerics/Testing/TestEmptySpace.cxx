@@ -258,7 +258,9 @@ TEST(EmptySpace, RangesKeptExactOrWidenedOutward)
 }
 
 // Cell scalars (one per cell): a block's range is that of its own cells,
-// and each NaN cell is counted once.
+// constant on each (Cells), and of their neighbours too where the field is
+// interpolated between the cells' centres (CellCentres); each NaN cell is
+// counted once.
 TEST(EmptySpace, CellRangesAreTheBlocksCells)
 {
   const int C[3] = { N[0] - 1, N[1] - 1, N[2] - 1 };
@@ -269,43 +271,54 @@ TEST(EmptySpace, CellRangesAreTheBlocksCells)
   {
     v = static_cast<std::uint8_t>(u(rng));
   }
-  EmptySpaceMap<double> map;
-  map.SetDimensions(N);
   using Samples = EmptySpaceMap<double>::Samples;
-  ASSERT_EQ(map.ComputeRanges(data.data(), Samples::Cells), 0u);
   const int B = EmptySpaceMap<double>::BlockSize;
-  std::size_t index = 0;
-  for (int bz = 0; bz < map.GetNumberOfBlocks(2); ++bz)
+  for (const Samples samples : { Samples::Cells, Samples::CellCentres })
   {
-    for (int by = 0; by < map.GetNumberOfBlocks(1); ++by)
+    const int spread = samples == Samples::CellCentres ? 1 : 0;
+    EmptySpaceMap<double> map;
+    map.SetDimensions(N);
+    ASSERT_EQ(map.ComputeRanges(data.data(), samples), 0u);
+    std::size_t index = 0;
+    for (int bz = 0; bz < map.GetNumberOfBlocks(2); ++bz)
     {
-      for (int bx = 0; bx < map.GetNumberOfBlocks(0); ++bx, ++index)
+      for (int by = 0; by < map.GetNumberOfBlocks(1); ++by)
       {
-        double lo = 255.0, hi = 0.0;
-        for (int k = bz * B; k < std::min(bz * B + B, C[2]); ++k)
+        for (int bx = 0; bx < map.GetNumberOfBlocks(0); ++bx, ++index)
         {
-          for (int j = by * B; j < std::min(by * B + B, C[1]); ++j)
+          const int b[3] = { bx, by, bz };
+          int from[3], to[3];
+          for (int a = 0; a < 3; ++a)
           {
-            for (int i = bx * B; i < std::min(bx * B + B, C[0]); ++i)
+            from[a] = std::max(b[a] * B - spread, 0);
+            to[a] = std::min(b[a] * B + B - 1 + spread, C[a] - 1);
+          }
+          double lo = 255.0, hi = 0.0;
+          for (int k = from[2]; k <= to[2]; ++k)
+          {
+            for (int j = from[1]; j <= to[1]; ++j)
             {
-              const double v = data[i + C[0] * (j + static_cast<std::size_t>(C[1]) * k)];
-              lo = std::min(lo, v);
-              hi = std::max(hi, v);
+              for (int i = from[0]; i <= to[0]; ++i)
+              {
+                const double v = data[i + C[0] * (j + static_cast<std::size_t>(C[1]) * k)];
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+              }
             }
           }
+          ASSERT_EQ(map.GetMinimum(index), lo);
+          ASSERT_EQ(map.GetMaximum(index), hi);
         }
-        ASSERT_EQ(map.GetMinimum(index), lo);
-        ASSERT_EQ(map.GetMaximum(index), hi);
       }
     }
+    std::vector<float> withNaN(data.begin(), data.end());
+    const std::size_t cells[] = { 0, std::size_t(B - 1), std::size_t(B), withNaN.size() - 1 };
+    for (const std::size_t i : cells)
+    {
+      withNaN[i] = std::nanf("");
+    }
+    EXPECT_EQ(map.ComputeRanges(withNaN.data(), samples), 4u);
   }
-  std::vector<float> withNaN(data.begin(), data.end());
-  const std::size_t cells[] = { 0, std::size_t(B - 1), std::size_t(B), withNaN.size() - 1 };
-  for (const std::size_t i : cells)
-  {
-    withNaN[i] = std::nanf("");
-  }
-  EXPECT_EQ(map.ComputeRanges(withNaN.data(), Samples::Cells), 4u);
 }
 
 TEST(EmptySpace, SegmentsCoverEveryVisiblePointAndChangeNothing)

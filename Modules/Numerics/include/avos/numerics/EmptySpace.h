@@ -99,12 +99,14 @@ public:
   static constexpr std::size_t TablePadding = 3;
   const unsigned char* GetWalkTable() const { return this->Table.data(); }
 
-  // Where the scalars sit: one per grid point, or one per cell (a field
-  // constant per cell, Volume.h's CellConstantVolume).
+  // Where the scalars sit: one per grid point, or one per cell, constant on
+  // it (Volume.h's CellConstantVolume) or interpolated between the cells'
+  // centres (CellCentredVolume: a cell's field reads its neighbours too).
   enum class Samples
   {
     Points,
-    Cells
+    Cells,
+    CellCentres
   };
 
   // Fills every block's range from the scalars, x fastest; `forLayers(count,
@@ -118,7 +120,10 @@ public:
   std::size_t ComputeRanges(
     const Storage* data, ForLayers&& forLayers, Samples samples = Samples::Points)
   {
-    const int reach = samples == Samples::Cells ? 1 : 0;
+    // The values a block's cells [first, last) read: points first..last,
+    // cells first..last - 1, or those and their neighbours (spread 1).
+    const int reach = samples == Samples::Points ? 0 : 1;
+    const int spread = samples == Samples::CellCentres ? 1 : 0;
     constexpr bool keyed = std::is_integral<Storage>::value && sizeof(Storage) <= 2;
     this->KeyOffset = keyed && std::is_signed<Storage>::value ? 32768 : 0;
     if (keyed)
@@ -133,7 +138,8 @@ public:
     }
     std::atomic<std::size_t> nans(0);
     forLayers(this->Blocks[2],
-      [&](int zBegin, int zEnd) { nans += this->ComputeLayers<keyed>(data, reach, zBegin, zEnd); });
+      [&](int zBegin, int zEnd)
+      { nans += this->ComputeLayers<keyed>(data, reach, spread, zBegin, zEnd); });
     return nans;
   }
 
@@ -364,11 +370,11 @@ private:
     Real Inverse[3];
   };
 
-  // The ranges of the blocks in z-layers [zBegin, zEnd), as keys or floats.
-  // A block's cells [first, last) read the points first..last, or with
-  // `reach` 1 the cells' own values first..last - 1.
+  // The ranges of the blocks in z-layers [zBegin, zEnd), as keys or floats:
+  // for the block's cells [first, last), the values first - spread..last -
+  // reach + spread along each axis, within the data (ComputeRanges).
   template <bool Keyed, typename Storage>
-  std::size_t ComputeLayers(const Storage* data, int reach, int zBegin, int zEnd)
+  std::size_t ComputeLayers(const Storage* data, int reach, int spread, int zBegin, int zEnd)
   {
     std::size_t nans = 0;
     const std::ptrdiff_t sy = this->Dimensions[0] - reach;
@@ -382,26 +388,30 @@ private:
           double lo = std::numeric_limits<double>::infinity();
           double hi = -lo;
           const int b[3] = { bx, by, bz };
-          int first[3], last[3];
+          int first[3], last[3], from[3], to[3];
           for (int a = 0; a < 3; ++a)
           {
             first[a] = b[a] * BlockSize;
             last[a] = std::min(first[a] + BlockSize, this->Dimensions[a] - 1);
+            from[a] = std::max(first[a] - spread, 0);
+            to[a] = std::min(last[a] - reach + spread, this->Dimensions[a] - 1 - reach);
           }
-          for (int k = first[2]; k <= last[2] - reach; ++k)
+          for (int k = from[2]; k <= to[2]; ++k)
           {
-            for (int j = first[1]; j <= last[1] - reach; ++j)
+            for (int j = from[1]; j <= to[1]; ++j)
             {
               const Storage* row = data + k * sz + j * sy;
-              for (int i = first[0]; i <= last[0] - reach; ++i)
+              for (int i = from[0]; i <= to[0]; ++i)
               {
                 const double v = double(row[i]);
                 if (v != v)
                 {
                   // Counted by the one block that owns the point (blocks
                   // share their faces' points; a cell has one block).
-                  auto owns = [&](int a, int x)
-                  { return x < first[a] + BlockSize || x == this->Dimensions[a] - 1; };
+                  auto owns = [&](int a, int x) {
+                    return x >= first[a] &&
+                      (x < first[a] + BlockSize || x == this->Dimensions[a] - 1);
+                  };
                   nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
                   continue;
                 }

@@ -200,6 +200,122 @@ private:
   std::ptrdiff_t Sy = 0, Sz = 0;
 };
 
+// Cell scalars read as VTK's GPU mapper reads them with linear
+// interpolation: the trilinear interpolant of the values at the cell
+// centres, clamped at the outer half cells (a texture with one texel per
+// cell over the box, clamped to its edge). On the point grid refined by 2
+// it is trilinear in every cell: a refined point at a cell centre holds the
+// cell's value, one on a face between centres the mean of the cells beside
+// it (per axis, clamped at the box), so the walks and integrators take it
+// as a TrilinearVolume of that grid. Walk coordinates as CellConstantVolume's.
+template <typename Real, typename Storage>
+class CellCentredVolume
+{
+public:
+  using Point = glm::vec<3, Real>;
+
+  // `data` has (n - 1) values per axis, x fastest; `pointDimensions` (n per
+  // axis) must be at least 2 on every axis.
+  CellCentredVolume(const Storage* data, const int pointDimensions[3])
+    : Data(data)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Cells[a] = pointDimensions[a] - 1;
+      this->N[a] = 2 * pointDimensions[a] - 1;
+    }
+    this->Sy = this->Cells[0];
+    this->Sz = static_cast<std::ptrdiff_t>(this->Cells[0]) * this->Cells[1];
+  }
+
+  Point ToWalk(const Point& p) const { return p * Real(2); }
+
+  // The interpolant at p (walk-grid coordinates, clamped onto the box).
+  Real operator()(const Point& p) const
+  {
+    int cell[3];
+    Real f[3];
+    this->Locate(p, cell, f);
+    Real c[8];
+    this->GetCorners(cell[0], cell[1], cell[2], c);
+    const Real v00 = c[0] + f[0] * (c[1] - c[0]), v10 = c[2] + f[0] * (c[3] - c[2]);
+    const Real v01 = c[4] + f[0] * (c[5] - c[4]), v11 = c[6] + f[0] * (c[7] - c[6]);
+    const Real v0 = v00 + f[1] * (v10 - v00), v1 = v01 + f[1] * (v11 - v01);
+    return v0 + f[2] * (v1 - v0);
+  }
+
+  // Shading reads no gradient of this field (the engine refuses it): zero.
+  glm::vec<3, Real> Gradient(const Point&) const { return glm::vec<3, Real>(Real(0)); }
+
+  int GetDimension(int axis) const { return this->N[axis]; }
+
+  // The refined grid's values at the corners of walk cell (i, j, k): each
+  // the tensor-product mean of the cells beside it (Weights).
+  void GetCorners(int i, int j, int k, Real c[8]) const
+  {
+    int lo[3][2], hi[3][2];
+    this->Weights(i, 0, lo[0], hi[0]);
+    this->Weights(j, 1, lo[1], hi[1]);
+    this->Weights(k, 2, lo[2], hi[2]);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      const int a = corner & 1, b = (corner >> 1) & 1, d = (corner >> 2) & 1;
+      Real sum = Real(0);
+      for (int z = 0; z < 2; ++z)
+      {
+        for (int y = 0; y < 2; ++y)
+        {
+          for (int x = 0; x < 2; ++x)
+          {
+            sum += Real(this->Data[(x ? hi : lo)[0][a] + (y ? hi : lo)[1][b] * this->Sy +
+              (z ? hi : lo)[2][d] * this->Sz]);
+          }
+        }
+      }
+      c[corner] = sum * Real(0.125);
+    }
+  }
+
+private:
+  // Along `axis`, the two cells whose mean is the value at refined points
+  // q = index (slot 0) and index + 1 (slot 1): at a centre (q odd) cell
+  // (q - 1) / 2 twice; on a face (q even) cells q / 2 - 1 and q / 2, clamped
+  // into the box (both the same cell at its ends).
+  void Weights(int index, int axis, int lo[2], int hi[2]) const
+  {
+    const int last = this->Cells[axis] - 1;
+    for (int s = 0; s < 2; ++s)
+    {
+      const int q = index + s;
+      if (q & 1)
+      {
+        lo[s] = hi[s] = (q - 1) / 2;
+      }
+      else
+      {
+        lo[s] = std::max(q / 2 - 1, 0);
+        hi[s] = std::min(q / 2, last);
+      }
+    }
+  }
+
+  void Locate(const Point& p, int cell[3], Real f[3]) const
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const Real last = Real(this->N[a] - 1);
+      const Real x = p[a] > Real(0) ? (p[a] < last ? p[a] : last) : Real(0);
+      cell[a] = std::min(static_cast<int>(x), this->N[a] - 2);
+      f[a] = x - Real(cell[a]);
+    }
+  }
+
+  const Storage* Data;
+  int Cells[3] = { 0, 0, 0 };
+  int N[3] = { 0, 0, 0 };
+  std::ptrdiff_t Sy = 0, Sz = 0;
+};
+
 // Clips the ray start + t step, t in [t0, t1], to the grid's box
 // [0, n - 1]^3 (slabs). False when it misses; t0 and t1 narrowed otherwise.
 // Infinite bounds are allowed (an unbounded ray); a non-finite start or step,
