@@ -16,18 +16,16 @@ void ForLayers(int count, const std::function<void(int, int)>& body)
 }
 }
 
-bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], bool cells)
+bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], Samples samples)
 {
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
   if (scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
-    dims == this->Dimensions && cells == this->Cells)
+    dims == this->Dimensions && samples == this->Sampled)
   {
     return true;
   }
   this->Map.SetDimensions(dimensions);
   std::size_t nans = 0;
-  using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
-  const Samples samples = cells ? Samples::Cells : Samples::Points;
   switch (scalars->GetDataType())
   {
     vtkTemplateMacro(nans = this->Map.ComputeRanges(
@@ -38,7 +36,7 @@ bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], bo
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();
   this->Dimensions = dims;
-  this->Cells = cells;
+  this->Sampled = samples;
   this->NaNCount = nans;
   this->Time.Modified();
   return true;

@@ -21,10 +21,12 @@ namespace avos
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EmptySpaceRanges
 {
 public:
+  using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
+
   /// Brings the ranges up to date for the scalars (single component, one per
-  /// grid point of `dimensions`, or one per cell for `cells`). False, with
-  /// nothing changed, for a scalar type the map cannot read.
-  bool Update(vtkDataArray* scalars, const int dimensions[3], bool cells = false);
+  /// grid point of `dimensions`, or one per cell, as `samples` says). False,
+  /// with nothing changed, for a scalar type the map cannot read.
+  bool Update(vtkDataArray* scalars, const int dimensions[3], Samples samples = Samples::Points);
 
   avos::numerics::EmptySpaceMap<double>& GetMap() { return this->Map; }
   /// NaN scalars met by the last rebuild.
@@ -37,7 +39,7 @@ private:
   vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
   vtkMTimeType ScalarsTime = 0;
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
-  bool Cells = false;
+  Samples Sampled = Samples::Points;
   std::size_t NaNCount = 0;
   vtkTimeStamp Time;
 };

@@ -180,16 +180,16 @@ public:
   vtkNew<vtkMatrix4x4> GridToWorld, WorldToGrid;
   double Voxel = 0.0;
 
-  // UpdateScalars: the empty-space map's ranges (rebuilt when the scalars
-  // change), the data's range, the engine's view of the scalars (in place).
+  // UpdateScalars: the scalars' field (View.Field), the empty-space map's
+  // ranges (rebuilt when the scalars or their field change), the data's
+  // range, the engine's view of the scalars (in place).
   avos::EmptySpaceRanges Ranges;
   vtkMTimeType NaNReported = 0; // the ranges whose NaN count was reported
   double DataRange[2] = { 0.0, 1.0 };
   avos::engine::Scalars View;
 
-  // UpdateProperty: the scalars' field (View.Field), the transfer function
-  // and the blocks' visibility; the shading of the frame
-  // (FrameMethod::Shading points here) and its key.
+  // UpdateProperty: the transfer function and the blocks' visibility; the
+  // shading of the frame (FrameMethod::Shading points here) and its key.
   TransferFunction TF;
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
@@ -315,8 +315,8 @@ void vtkAdaptiveVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   this->LastRenderReused = false;
   vtkImageData* input = nullptr;
   bool drawn = this->ValidateSettings() && (input = this->UpdateInput()) != nullptr &&
-    this->UpdateGeometry(input, vol) && this->UpdateScalars() && this->UpdateProperty(ren, vol) &&
-    this->UpdateKernelTables() && this->SetUpFrame(ren, vol);
+    this->UpdateGeometry(input, vol) && this->UpdateScalars(vol) &&
+    this->UpdateProperty(ren, vol) && this->UpdateKernelTables() && this->SetUpFrame(ren, vol);
   if (drawn)
   {
     const avos::engine::Frame& frame = internals.Frame;
@@ -484,12 +484,23 @@ bool vtkAdaptiveVolumeMapper::UpdateGeometry(vtkImageData* input, vtkVolume* vol
   return true;
 }
 
-bool vtkAdaptiveVolumeMapper::UpdateScalars()
+bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
 {
   vtkInternals& internals = *this->Internals;
   vtkDataArray* scalars = internals.Scalars;
-  // The empty-space ranges, when the scalars changed.
-  if (!internals.Ranges.Update(scalars, internals.Dimensions, internals.CellData) ||
+  // The field, as VTK's GPU mapper reads the scalars: point scalars
+  // trilinear, or constant on each point's nearest region; cell scalars
+  // constant on each cell, or trilinear between the cells' centres.
+  using Field = avos::engine::ScalarField;
+  using Samples = avos::EmptySpaceRanges::Samples;
+  const bool nearest = vol->GetProperty()->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
+  const Field field = internals.CellData ? (nearest ? Field::Cells : Field::CellCentres)
+                                         : (nearest ? Field::Nearest : Field::Trilinear);
+  const Samples samples = !internals.CellData ? Samples::Points
+    : nearest                                 ? Samples::Cells
+                                              : Samples::CellCentres;
+  // The empty-space ranges, when the scalars or their field changed.
+  if (!internals.Ranges.Update(scalars, internals.Dimensions, samples) ||
     !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View))
   {
     vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
@@ -507,6 +518,7 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars()
                              "nearest interpolation, the regions nearest to them)."));
   }
   internals.NaNReported = internals.Ranges.GetTime();
+  internals.View.Field = field;
   // Bounds of the trilinear field, and the projections' normalisation.
   scalars->GetRange(internals.DataRange, 0);
   return true;
@@ -523,20 +535,13 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     vtkErrorMacro(<< unsupported << ".");
     return false;
   }
-  // Cell scalars are constant per cell whatever the interpolation (one
-  // value per cell: VTK's GPU mapper's nearest reading); point scalars are
-  // trilinear, or constant on each point's nearest region.
-  using Field = avos::engine::ScalarField;
-  internals.View.Field = internals.CellData                         ? Field::Cells
-    : property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION ? Field::Nearest
-                                                                    : Field::Trilinear;
   internals.Shade = property->GetShade(0) != 0;
   internals.ShadingKey.clear();
-  if (internals.Shade && internals.View.Field != Field::Trilinear)
+  if (internals.Shade && internals.View.Field != avos::engine::ScalarField::Trilinear)
   {
-    vtkErrorMacro(<< "Cannot shade: a field constant per cell (cell scalars or nearest "
-                     "interpolation) has no gradient inside its cells; shade point scalars "
-                     "with linear interpolation.");
+    vtkErrorMacro(<< "Cannot shade: only point scalars with linear interpolation are shaded (a "
+                     "field constant per cell has no gradient; cell scalars' between their "
+                     "centres is not modelled).");
     return false;
   }
   if (internals.Shade)

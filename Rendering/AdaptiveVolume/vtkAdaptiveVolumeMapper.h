@@ -17,15 +17,18 @@
  * result is RGB = integrated colour I, A = 1 - T over a black background,
  * composited over the scene.
  *
- * The field. Point scalars with the property's linear interpolation are
- * interpolated trilinearly; with nearest interpolation (vtkVolumeProperty's
- * default) each point's value fills the part of the box nearest to it. Cell
- * scalars are constant on each cell with either interpolation (one value
- * per cell, as VTK's GPU mapper reads them with nearest interpolation; with
- * linear interpolation it blends the cells' values between their centres,
- * which this mapper does not). A field constant per cell is integrated in
- * one piece per cell (or nearest region), exactly by the piecewise method;
- * it has no gradient to shade with.
+ * The field, as VTK's GPU mapper reads the scalars. Point scalars with the
+ * property's linear interpolation are interpolated trilinearly; with
+ * nearest interpolation (vtkVolumeProperty's default) each point's value
+ * fills the part of the box nearest to it. Cell scalars with nearest
+ * interpolation are constant on each cell; with linear interpolation they
+ * are interpolated trilinearly between the cells' centres, and constant
+ * across the outer half cells along the box's normal (a texture clamped to
+ * its edge). Each is trilinear or constant on the cells of the point grid
+ * or of that grid refined by 2, so every method integrates it as it does
+ * the point scalars' (the piecewise method within eps, a field constant per
+ * cell in one piece per region); only point scalars with linear
+ * interpolation are shaded.
  *
  * Opacity model. With SetOpacityModelToVTK() (the default) the scalar
  * opacity function is VTK's: an opacity accumulated over the property's
@@ -73,7 +76,8 @@
  *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
  * supported (an error says so and nothing is drawn): multi-component
- * scalars, shading a field constant per cell, the isosurface and slice
+ * scalars, shading other than point scalars with linear interpolation, the
+ * isosurface and slice
  * blend modes, clipping planes with a
  * transform, cropping of inputs with a direction matrix or negative spacing.
  *
@@ -293,7 +297,7 @@ protected:
   bool ValidateSettings();
   vtkImageData* UpdateInput();
   bool UpdateGeometry(vtkImageData* input, vtkVolume* vol);
-  bool UpdateScalars();
+  bool UpdateScalars(vtkVolume* vol);
   bool UpdateProperty(vtkRenderer* ren, vtkVolume* vol);
   bool UpdatePieces();
   bool UpdateKernelTables();

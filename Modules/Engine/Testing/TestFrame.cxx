@@ -370,11 +370,10 @@ TEST(Frame, MaximumIntensityMatchesTheCore)
 }
 
 // Fields constant per cell (nearest interpolation of the point scalars, and
-// cell scalars): the frame against the core in the volume's walk
-// coordinates, for the piecewise method (clipped too), Riemann and the
-// maximum; the empty-space map (the point one for nearest, the cells' own
-// for cells) skips only what is transparent: the image without it is the
-// same.
+// cell scalars) and cell scalars between their centres: the frame against the core in the volume's
+// walk coordinates, for the piecewise method (clipped too), Riemann and the maximum; the
+// empty-space map (the point one for nearest, the cells' own for cell scalars, with their
+// neighbours between centres) skips only what is transparent: the image without it is the same.
 TEST(Frame, CellConstantFieldsMatchTheCore)
 {
   Scene scene;
@@ -398,15 +397,31 @@ TEST(Frame, CellConstantFieldsMatchTheCore)
   an::PiecewiseTransferFunction<double> pieces;
   ASSERT_EQ(pieces.Build(scene.Case.TF, an::PiecewiseRelativeError(1e-3)), "");
   using Constant = an::CellConstantVolume<double, double>;
-  for (const ae::ScalarField field : { ae::ScalarField::Nearest, ae::ScalarField::Cells })
+  an::EmptySpaceMap<double> centreMap;
+  centreMap.SetDimensions(n);
+  centreMap.ComputeRanges(cells.data(), an::EmptySpaceMap<double>::Samples::CellCentres);
+  centreMap.Classify(scene.Case.TF);
+  const Constant nearestVolume(scene.Case.Data.data(), n, Constant::Layout::NearestPoints);
+  const Constant cellVolume(cells.data(), n, Constant::Layout::Cells);
+  const an::CellCentredVolume<double, double> centredVolume(cells.data(), n);
+  for (const ae::ScalarField field :
+    { ae::ScalarField::Nearest, ae::ScalarField::Cells, ae::ScalarField::CellCentres })
   {
     const bool nearest = field == ae::ScalarField::Nearest;
     ae::Scalars scalars = scene.Doubles();
     scalars.Field = field;
     scalars.Data = nearest ? scene.Case.Data.data() : cells.data();
-    const Constant volume(static_cast<const double*>(scalars.Data), n,
-      nearest ? Constant::Layout::NearestPoints : Constant::Layout::Cells);
-    const an::EmptySpaceMap<double>& map = nearest ? scene.Map : cellMap;
+    const an::EmptySpaceMap<double>& map = nearest ? scene.Map
+      : field == ae::ScalarField::Cells            ? cellMap
+                                                   : centreMap;
+    // The core on the same field (the walk coordinates of both are the
+    // point grid's refined by 2, or the cells' own).
+    auto withVolume = [&](auto&& f)
+    {
+      return nearest                      ? f(nearestVolume)
+        : field == ae::ScalarField::Cells ? f(cellVolume)
+                                          : f(centredVolume);
+    };
     for (const bool clipped : { false, true })
     {
       scene.Frame.Clip = an::ClipRegion<double>();
@@ -430,32 +445,37 @@ TEST(Frame, CellConstantFieldsMatchTheCore)
           const Agreement a = Compare(scene, method, image,
             [&](const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
             {
-              const glm::dvec3 wo = volume.ToWalk(o), wd = volume.ToWalk(d);
-              if (mode == ae::Blend::Maximum)
-              {
-                const an::RayExtremum<double> e =
-                  an::ExtremumAlongRay(volume, wo, wd, segments.data(), segments.size(), true);
-                const double alpha =
-                  std::min(std::max(scene.Case.TF.GetOpacityValue(e.Value), 0.0), 1.0);
-                return e.Found ? glm::dvec4(scene.Case.TF.GetColor(e.Value) * alpha, alpha)
-                               : glm::dvec4(0.0);
-              }
-              if (kind == ae::Integration::Riemann)
-              {
-                if (clipped)
+              return withVolume(
+                [&](const auto& volume)
                 {
-                  // Riemann restarts at the clip plane (ClippedRiemann):
-                  // the frame's own ray a time is the reference below.
-                  return glm::dvec4(-1.0);
-                }
-                const an::RayField<double, Constant> f{ volume, wo, wd };
-                return an::IntegrateRiemann(f, scene.Case.TF, D, 0.5, an::RiemannForm::Exponential,
-                  segments.data(), segments.size(), 0.0)
-                  .RGBA;
-              }
-              return an::IntegratePiecewise(
-                volume, wo, wd, segments.data(), segments.size(), pieces, 1e-3)
-                .RGBA;
+                  using VolumeT = std::decay_t<decltype(volume)>;
+                  const glm::dvec3 wo = volume.ToWalk(o), wd = volume.ToWalk(d);
+                  if (mode == ae::Blend::Maximum)
+                  {
+                    const an::RayExtremum<double> e =
+                      an::ExtremumAlongRay(volume, wo, wd, segments.data(), segments.size(), true);
+                    const double alpha =
+                      std::min(std::max(scene.Case.TF.GetOpacityValue(e.Value), 0.0), 1.0);
+                    return e.Found ? glm::dvec4(scene.Case.TF.GetColor(e.Value) * alpha, alpha)
+                                   : glm::dvec4(0.0);
+                  }
+                  if (kind == ae::Integration::Riemann)
+                  {
+                    if (clipped)
+                    {
+                      // Riemann restarts at the clip plane (ClippedRiemann):
+                      // the frame's own ray a time is the reference below.
+                      return glm::dvec4(-1.0);
+                    }
+                    const an::RayField<double, VolumeT> f{ volume, wo, wd };
+                    return an::IntegrateRiemann(f, scene.Case.TF, D, 0.5,
+                      an::RiemannForm::Exponential, segments.data(), segments.size(), 0.0)
+                      .RGBA;
+                  }
+                  return an::IntegratePiecewise(
+                    volume, wo, wd, segments.data(), segments.size(), pieces, 1e-3)
+                    .RGBA;
+                });
             });
           const bool skipCore =
             clipped && kind == ae::Integration::Riemann && mode == ae::Blend::Composite;

@@ -49,7 +49,8 @@ void DispatchScalars(const Scalars& scalars, F&& f)
 }
 
 // Calls f(volume) with the field of the scalars: the trilinear interpolant,
-// or a field constant per cell (avos/numerics/Volume.h).
+// a field constant per cell, or cell scalars between their centres
+// (avos/numerics/Volume.h).
 template <typename F>
 void DispatchVolume(const Scalars& scalars, F&& f)
 {
@@ -66,6 +67,8 @@ void DispatchVolume(const Scalars& scalars, F&& f)
           return f(Constant(data, scalars.Dimensions, Constant::Layout::NearestPoints));
         case ScalarField::Cells:
           return f(Constant(data, scalars.Dimensions, Constant::Layout::Cells));
+        case ScalarField::CellCentres:
+          return f(an::CellCentredVolume<double, Storage>(data, scalars.Dimensions));
       }
     });
 }
@@ -80,6 +83,11 @@ glm::dvec3 ToWalk(const an::TrilinearVolume<double, Storage>&, const glm::dvec3&
 }
 template <typename Storage>
 glm::dvec3 ToWalk(const an::CellConstantVolume<double, Storage>& volume, const glm::dvec3& p)
+{
+  return volume.ToWalk(p);
+}
+template <typename Storage>
+glm::dvec3 ToWalk(const an::CellCentredVolume<double, Storage>& volume, const glm::dvec3& p)
 {
   return volume.ToWalk(p);
 }
@@ -669,16 +677,17 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
   }
   if (scalars.Field != ScalarField::Trilinear)
   {
-    // The kernels read the trilinear interpolant; shading needs its
-    // gradient, which a field constant per cell does not have.
+    // The kernels read the trilinear interpolant of point scalars; shading
+    // needs its gradient (a field constant per cell has none; cell centres'
+    // is not modelled).
     if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
     {
       return "the engine's kernels read the trilinear interpolant of point scalars only";
     }
     if (method.Shading)
     {
-      return "a field constant per cell (cell scalars, nearest interpolation) has no gradient to "
-             "shade with";
+      return "only point scalars with linear interpolation are shaded (a field constant per cell "
+             "has no gradient)";
     }
   }
   return std::string();

@@ -584,7 +584,7 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Property->UseClippedVoxelIntensityOff();
   scene.Property->SetInterpolationTypeToNearest();
   scene.Property->ShadeOn();
-  expectError("shaded nearest interpolation", "Cannot shade: a field constant per cell");
+  expectError("shaded nearest interpolation", "Cannot shade: only point scalars with linear interpolation");
   scene.Property->ShadeOff();
   scene.Window->Render();
   Expect(errors.None("nearest interpolation"), "nearest interpolation is rendered");

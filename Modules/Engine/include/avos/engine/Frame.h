@@ -60,13 +60,14 @@ enum class ScalarType
 // property's interpolation type).
 enum class ScalarField
 {
-  Trilinear, // point scalars, the trilinear interpolant (linear interpolation)
-  Nearest,   // point scalars, each point's value nearest to it (nearest)
-  Cells      // cell scalars, one value per cell (either interpolation)
+  Trilinear,  // point scalars, the trilinear interpolant (linear interpolation)
+  Nearest,    // point scalars, each point's value nearest to it (nearest)
+  Cells,      // cell scalars, one value per cell (nearest)
+  CellCentres // cell scalars, trilinear between the cells' centres (linear)
 };
 
 // A single-component scalar volume read in place, x fastest: one value per
-// grid point, or per cell for ScalarField::Cells. Dimensions are the grid
+// grid point, or per cell for the cell fields. Dimensions are the grid
 // points' (the box) in every field.
 struct Scalars
 {
