@@ -20,6 +20,21 @@ namespace avos
 namespace numerics
 {
 
+namespace detail
+{
+// Cell index in [0, n - 2] along an axis of n grid points and the fraction
+// of x inside it, x clamped onto [0, n - 1]; a NaN lands on cell 0 (a NaN
+// position is a caller's bug, never a crash).
+template <typename Real>
+void LocateCell(Real x, int n, int& cell, Real& fraction)
+{
+  const Real last = Real(n - 1);
+  x = x > Real(0) ? (x < last ? x : last) : Real(0);
+  cell = std::min(static_cast<int>(x), n - 2);
+  fraction = x - Real(cell);
+}
+} // namespace detail
+
 template <typename Real, typename Storage>
 class TrilinearVolume
 {
@@ -43,9 +58,9 @@ public:
   {
     int i, j, k;
     Real fx, fy, fz;
-    Locate(p.x, this->Nx, i, fx);
-    Locate(p.y, this->Ny, j, fy);
-    Locate(p.z, this->Nz, k, fz);
+    detail::LocateCell(p.x, this->Nx, i, fx);
+    detail::LocateCell(p.y, this->Ny, j, fy);
+    detail::LocateCell(p.z, this->Nz, k, fz);
     const Storage* c = this->Data + i + j * this->Sy + k * this->Sz;
     const Real v000 = Real(c[0]), v100 = Real(c[1]);
     const Real v010 = Real(c[this->Sy]), v110 = Real(c[this->Sy + 1]);
@@ -61,15 +76,15 @@ public:
   }
 
   // The gradient of the trilinear interpolant at p (grid coordinates,
-  // per grid unit): exact inside a cell; on a face, that of the cell Locate
+  // per grid unit): exact inside a cell; on a face, that of the cell LocateCell
   // picks (the interpolant is only continuous there).
   glm::vec<3, Real> Gradient(const Point& p) const
   {
     int i, j, k;
     Real fx, fy, fz;
-    Locate(p.x, this->Nx, i, fx);
-    Locate(p.y, this->Ny, j, fy);
-    Locate(p.z, this->Nz, k, fz);
+    detail::LocateCell(p.x, this->Nx, i, fx);
+    detail::LocateCell(p.y, this->Ny, j, fy);
+    detail::LocateCell(p.z, this->Nz, k, fz);
     Real c[8];
     this->GetCorners(i, j, k, c);
     // Differences along x at the four (y, z) edges, then blended.
@@ -103,16 +118,6 @@ public:
   }
 
 private:
-  // Cell index in [0, n - 2] and the fraction inside it, for a NaN too (it
-  // lands on cell 0: a NaN position is a caller's bug, never a crash).
-  static void Locate(Real x, int n, int& cell, Real& fraction)
-  {
-    const Real last = Real(n - 1);
-    x = x > Real(0) ? (x < last ? x : last) : Real(0);
-    cell = std::min(static_cast<int>(x), n - 2);
-    fraction = x - Real(cell);
-  }
-
   const Storage* Data;
   int Nx, Ny, Nz;
   std::ptrdiff_t Sy, Sz;
@@ -164,11 +169,10 @@ public:
   Real operator()(const Point& p) const
   {
     int c[3];
+    Real f;
     for (int a = 0; a < 3; ++a)
     {
-      const Real last = Real(this->N[a] - 1);
-      const Real x = p[a] > Real(0) ? (p[a] < last ? p[a] : last) : Real(0);
-      c[a] = std::min(static_cast<int>(x), this->N[a] - 2);
+      detail::LocateCell(p[a], this->N[a], c[a], f);
     }
     return this->Value(c[0], c[1], c[2]);
   }
@@ -235,7 +239,10 @@ public:
   {
     int cell[3];
     Real f[3];
-    this->Locate(p, cell, f);
+    for (int a = 0; a < 3; ++a)
+    {
+      detail::LocateCell(p[a], this->N[a], cell[a], f[a]);
+    }
     Real c[8];
     this->GetCorners(cell[0], cell[1], cell[2], c);
     const Real v00 = c[0] + f[0] * (c[1] - c[0]), v10 = c[2] + f[0] * (c[3] - c[2]);
@@ -296,17 +303,6 @@ private:
         lo[s] = std::max(q / 2 - 1, 0);
         hi[s] = std::min(q / 2, last);
       }
-    }
-  }
-
-  void Locate(const Point& p, int cell[3], Real f[3]) const
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      const Real last = Real(this->N[a] - 1);
-      const Real x = p[a] > Real(0) ? (p[a] < last ? p[a] : last) : Real(0);
-      cell[a] = std::min(static_cast<int>(x), this->N[a] - 2);
-      f[a] = x - Real(cell[a]);
     }
   }
 
