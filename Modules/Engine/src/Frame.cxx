@@ -113,14 +113,13 @@ template <typename VolumeT, typename F>
 an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method,
   const glm::dvec3& start, const glm::dvec3& direction, F&& f)
 {
-  using Volume = VolumeT;
   if (method.Shading)
   {
     const glm::dvec3 toViewer = -glm::normalize(method.GridToWorld * direction);
-    return f(an::ShadedRayField<double, Volume>{
+    return f(an::ShadedRayField<double, VolumeT>{
       volume, start, direction, method.NormalMatrix, toViewer, *method.Shading });
   }
-  return f(an::RayField<double, Volume>{ volume, start, direction });
+  return f(an::RayField<double, VolumeT>{ volume, start, direction });
 }
 
 // The Riemann sum over the kept parts of a ray, each its own ray from its
