@@ -73,28 +73,12 @@ void DispatchVolume(const Scalars& scalars, F&& f)
     });
 }
 
-// A point-grid position or direction in the volume's walk coordinates (the
-// same t), and whether those are the point grid's, whose cells the
-// empty-space map's blocks hold.
-template <typename Storage>
-glm::dvec3 ToWalk(const an::TrilinearVolume<double, Storage>&, const glm::dvec3& p)
-{
-  return p;
-}
-template <typename Storage>
-glm::dvec3 ToWalk(const an::CellConstantVolume<double, Storage>& volume, const glm::dvec3& p)
-{
-  return volume.ToWalk(p);
-}
-template <typename Storage>
-glm::dvec3 ToWalk(const an::CellCentredVolume<double, Storage>& volume, const glm::dvec3& p)
-{
-  return volume.ToWalk(p);
-}
+// Whether the volume's walk coordinates (ToWalk: the same t) are the point
+// grid's, whose cells the empty-space map's blocks hold.
 template <typename VolumeT>
 bool WalksPointCells(const VolumeT& volume)
 {
-  return ToWalk(volume, glm::dvec3(1.0)) == glm::dvec3(1.0);
+  return volume.ToWalk(glm::dvec3(1.0)) == glm::dvec3(1.0);
 }
 
 glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
@@ -310,7 +294,7 @@ void Integrate(const VolumeT& volume, const an::ClipRegion<double>& clip, const 
   const glm::dvec3& origin, const glm::dvec3& direction, double D, RayScratch& scratch,
   an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
-  const glm::dvec3 o = ToWalk(volume, origin), d = ToWalk(volume, direction);
+  const glm::dvec3 o = volume.ToWalk(origin), d = volume.ToWalk(direction);
   Segments& segments = scratch.Visible;
   const bool projection = method.Mode != Blend::Composite;
   if (!WalksSegments(method))

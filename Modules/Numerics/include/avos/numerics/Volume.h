@@ -33,6 +33,16 @@ void LocateCell(Real x, int n, int& cell, Real& fraction)
   cell = std::min(static_cast<int>(x), n - 2);
   fraction = x - Real(cell);
 }
+
+// The trilinear blend of a cell's corners c (x fastest) at fractions f.
+template <typename Real>
+Real Trilinear(const Real c[8], const Real f[3])
+{
+  const Real v00 = c[0] + f[0] * (c[1] - c[0]), v10 = c[2] + f[0] * (c[3] - c[2]);
+  const Real v01 = c[4] + f[0] * (c[5] - c[4]), v11 = c[6] + f[0] * (c[7] - c[6]);
+  const Real v0 = v00 + f[1] * (v10 - v00), v1 = v01 + f[1] * (v11 - v01);
+  return v0 + f[2] * (v1 - v0);
+}
 } // namespace detail
 
 template <typename Real, typename Storage>
@@ -57,23 +67,16 @@ public:
   Real operator()(const Point& p) const
   {
     int i, j, k;
-    Real fx, fy, fz;
-    detail::LocateCell(p.x, this->Nx, i, fx);
-    detail::LocateCell(p.y, this->Ny, j, fy);
-    detail::LocateCell(p.z, this->Nz, k, fz);
-    const Storage* c = this->Data + i + j * this->Sy + k * this->Sz;
-    const Real v000 = Real(c[0]), v100 = Real(c[1]);
-    const Real v010 = Real(c[this->Sy]), v110 = Real(c[this->Sy + 1]);
-    const Real v001 = Real(c[this->Sz]), v101 = Real(c[this->Sz + 1]);
-    const Real v011 = Real(c[this->Sz + this->Sy]), v111 = Real(c[this->Sz + this->Sy + 1]);
-    const Real v00 = v000 + fx * (v100 - v000);
-    const Real v10 = v010 + fx * (v110 - v010);
-    const Real v01 = v001 + fx * (v101 - v001);
-    const Real v11 = v011 + fx * (v111 - v011);
-    const Real v0 = v00 + fy * (v10 - v00);
-    const Real v1 = v01 + fy * (v11 - v01);
-    return v0 + fz * (v1 - v0);
+    Real f[3], c[8];
+    detail::LocateCell(p.x, this->Nx, i, f[0]);
+    detail::LocateCell(p.y, this->Ny, j, f[1]);
+    detail::LocateCell(p.z, this->Nz, k, f[2]);
+    this->GetCorners(i, j, k, c);
+    return detail::Trilinear(c, f);
   }
+
+  // Its walk grid is the point grid (see CellConstantVolume).
+  Point ToWalk(const Point& p) const { return p; }
 
   // The gradient of the trilinear interpolant at p (grid coordinates,
   // per grid unit): exact inside a cell; on a face, that of the cell LocateCell
@@ -245,10 +248,7 @@ public:
     }
     Real c[8];
     this->GetCorners(cell[0], cell[1], cell[2], c);
-    const Real v00 = c[0] + f[0] * (c[1] - c[0]), v10 = c[2] + f[0] * (c[3] - c[2]);
-    const Real v01 = c[4] + f[0] * (c[5] - c[4]), v11 = c[6] + f[0] * (c[7] - c[6]);
-    const Real v0 = v00 + f[1] * (v10 - v00), v1 = v01 + f[1] * (v11 - v01);
-    return v0 + f[2] * (v1 - v0);
+    return detail::Trilinear(c, f);
   }
 
   // Shading reads no gradient of this field (the engine refuses it): zero.
