@@ -496,9 +496,10 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
   const bool nearest = vol->GetProperty()->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
   const Field field = internals.CellData ? (nearest ? Field::Cells : Field::CellCentres)
                                          : (nearest ? Field::Nearest : Field::Trilinear);
-  const Samples samples = !internals.CellData ? Samples::Points
-    : nearest                                 ? Samples::Cells
-                                              : Samples::CellCentres;
+  // The map's blocks read what the field's cells read.
+  const Samples samples = field == Field::Cells ? Samples::Cells
+    : field == Field::CellCentres               ? Samples::CellCentres
+                                                : Samples::Points;
   // The empty-space ranges, when the scalars or their field changed.
   if (!internals.Ranges.Update(scalars, internals.Dimensions, samples) ||
     !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View))

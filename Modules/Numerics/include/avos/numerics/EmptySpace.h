@@ -112,10 +112,9 @@ public:
   // Fills every block's range from the scalars, x fastest; `forLayers(count,
   // body)` runs body(begin, end) over z-layers of blocks [0, count) (layers
   // are independent: it may run them in parallel). Returns the number of NaN
-  // scalars met. Integer scalars of 16 bits or
-  // fewer keep their ranges as 16-bit keys (exact); any other type as floats
-  // rounded outward, so that a range only widens and a block classified
-  // transparent is transparent.
+  // scalars met. Integer scalars of 16 bits or fewer keep their ranges as
+  // 16-bit keys (exact); any other type as floats rounded outward, so that a
+  // range only widens and a block classified transparent is transparent.
   template <typename Storage, typename ForLayers>
   std::size_t ComputeRanges(
     const Storage* data, ForLayers&& forLayers, Samples samples = Samples::Points)
