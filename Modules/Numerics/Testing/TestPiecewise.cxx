@@ -267,6 +267,35 @@ TEST(Piecewise, AlphaExtinctionWithinRelativeError)
   }
 }
 
+// Opacities above 1 in VTK's alpha model are opaque: a ramp from 0 to 20 is
+// opaque (tau = 40 per unit) from alpha = 1 on, and so are its pieces. (The
+// last cut once ran from alpha = 1 - e^-36 to 20 as one chord, 10 % below
+// the opaque value over most of the ramp: rays through it off by 1e-3 to
+// 2e-3 at every tolerance.)
+TEST(Piecewise, AlphaOpacitiesAboveOneAreOpaque)
+{
+  an::TransferFunction<double> tf;
+  tf.SetOpacityModel(an::OpacityModel::Alpha, 1.0);
+  tf.AddOpacityKnot(0.0, 0.0);
+  tf.AddOpacityKnot(1.0, 20.0);
+  tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  tf.Finalize();
+  an::PiecewiseTransferFunction<double> ptf;
+  ASSERT_EQ(ptf.Build(tf, 1e-4), "");
+  const double opaque = tf.ToExtinction(1.0);
+  double worst = 0.0;
+  for (int k = 0; k <= 1000; ++k)
+  {
+    const double s = 0.05 + 0.95 * k / 1000.0; // alpha = 20 s >= 1
+    const auto& piece = ptf[ptf.Locate(s)];
+    const double d = s - piece.Start;
+    const double tau =
+      piece.Tau + d * (piece.TauSlope + d * (piece.TauCurvature + d * piece.TauCubic));
+    worst = std::max(worst, std::abs(tau - opaque) / opaque);
+  }
+  EXPECT_LE(worst, 1e-12);
+}
+
 // The series of the colour integral J on a piece whose depth is one term of
 // degree 10: q(v) = v^3, tau = 10 q^3, theta(v) = v^10 on [0, 1] (A = 1, so
 // the sub-interval is not halved for A). Its series has terms only at every

@@ -424,6 +424,12 @@ private:
       x = y;
       cuts.push_back({ x, false });
     }
+    // Opacities above 1 are opaque: a cut at 1 leaves the rest constant,
+    // where the last chord's would be up to 10 % below the opaque value.
+    if (cuts.back().At < opaque && hi > opaque)
+    {
+      cuts.push_back({ opaque, false });
+    }
     if (cuts.back().At < hi)
     {
       cuts.push_back({ hi, false });
