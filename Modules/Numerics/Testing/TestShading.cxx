@@ -4,7 +4,9 @@
 // channel's lit colour is A C(s) + B with constants A and B: for colours that
 // stay below 1 this is again piecewise linear in s, and the Williams-Max
 // oracle of the unshaded integral, applied to the transfer function with
-// colour knots A C_k + B, is exact for the shaded one.
+// colour knots A C_k + B, is exact for the shaded one: the adaptive rules and
+// the piecewise method (PiecewiseShading.h) must meet their tolerance on it.
+#include "avos/numerics/PiecewiseShading.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Shading.h"
 #include "avos/numerics/Volume.h"
@@ -156,8 +158,16 @@ TEST(Shading, ShadedIntegralOfALinearFieldMatchesItsClosedForm)
   const glm::dvec4 unlit = oracles::LinearField(tf, s0, slope, D);
   ASSERT_GT(MaxError(exact, unlit), 0.05) << "the shading changes the ray";
 
+  PiecewiseTransferFunction<double> pieces;
+  ASSERT_EQ(pieces.Build(tf, 1e-3), "");
+  const RayShading<double> rayShading{ &model, normalMatrix, -direction };
+  const Interval<double> whole{ 0.0, D };
   for (double eps : { 1e-2, 1e-3, 1e-4 })
   {
+    const auto piecewise =
+      IntegratePiecewiseShaded(volume, start, direction, &whole, 1, pieces, eps, rayShading);
+    ASSERT_EQ(piecewise.Error, "");
+    EXPECT_LT(MaxError(piecewise.RGBA, exact), eps) << "piecewise, eps " << eps;
     for (Strategy strategy : { Strategy::Coupled, Strategy::Decoupled })
     {
       AdaptiveSettings<double> settings;

@@ -262,16 +262,21 @@ constexpr int MaximumTerms = 40;
 
 // One sub-interval of SeriesIntegral, [v, v + h] with v = 0 after the shift:
 // theta[1..degree] the shifted depth (A = Magnitude(theta, degree, h) <= 1),
-// g[0..2] the shifted q'. Adds terms of int_0^h g e^{-theta} until
-// Ev h max|g| (e^A - sum_{k <= N} C_k h^k) is within `limit`, at most
-// MaximumTerms + 1 of them; `sum` is the truncated integral. False when they
-// do not settle it.
-template <typename Real>
-bool SubintervalSeries(
-  const Real* theta, int degree, const Real g[3], Real h, Real A, Real Ev, Real limit, Real& sum)
+// g[i][0..2] the shifted coefficients of N quadratics g_i. Adds terms of
+// int_0^h g_i e^{-theta} until Ev h max|g_i| (e^A - sum_{k <= N} C_k h^k) is
+// within limit[i] for every i, at most MaximumTerms + 1 of them; sum[i] is
+// the truncated integral. False when they do not settle it.
+template <typename Real, int N>
+bool SubintervalSeries(const Real* theta, int degree, const Real (&g)[N][3], Real h, Real A,
+  Real Ev, const Real (&limit)[N], Real (&sum)[N])
 {
   static constexpr Reciprocals<Real> inverse{};
-  const Real gmax = std::abs(g[0]) + h * (std::abs(g[1]) + h * std::abs(g[2]));
+  Real gmax[N];
+  for (int i = 0; i < N; ++i)
+  {
+    gmax[i] = std::abs(g[i][0]) + h * (std::abs(g[i][1]) + h * std::abs(g[i][2]));
+    sum[i] = Real(0);
+  }
   const Real whole = std::exp(A); // the dominating series' sum at h
   // j theta_j and its magnitude, the recursion's weights.
   Real weight[PieceDepth<Real>::MaximumDegree + 1],
@@ -286,14 +291,20 @@ bool SubintervalSeries(
   c[0] = Real(1);
   C[0] = Real(1);
   Real partial = Real(1), hk = Real(1); // hk = h^k
-  sum = Real(0);
   for (int k = 0; k <= MaximumTerms; ++k)
   {
     // int_0^h g(w) w^k dw for the term c_k w^k.
-    sum += c[k] * hk * h *
-      (g[0] * inverse.R[k + 1] + h * (g[1] * inverse.R[k + 2] + h * g[2] * inverse.R[k + 3]));
+    const Real term = c[k] * hk * h;
+    bool settled = true;
     const Real tail = std::max(whole - partial, Real(0));
-    if (Ev * h * gmax * tail <= limit)
+    for (int i = 0; i < N; ++i)
+    {
+      sum[i] += term *
+        (g[i][0] * inverse.R[k + 1] +
+          h * (g[i][1] * inverse.R[k + 2] + h * g[i][2] * inverse.R[k + 3]));
+      settled = settled && Ev * h * gmax[i] * tail <= limit[i];
+    }
+    if (settled)
     {
       return true;
     }
@@ -313,6 +324,19 @@ bool SubintervalSeries(
     partial += C[k + 1] * hk;
   }
   return false;
+}
+
+// One quadratic.
+template <typename Real>
+bool SubintervalSeries(
+  const Real* theta, int degree, const Real g[3], Real h, Real A, Real Ev, Real limit, Real& sum)
+{
+  const Real gs[1][3] = { { g[0], g[1], g[2] } };
+  const Real limits[1] = { limit };
+  Real sums[1];
+  const bool settled = SubintervalSeries(theta, degree, gs, h, A, Ev, limits, sums);
+  sum = sums[0];
+  return settled;
 }
 
 // J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
@@ -429,6 +453,34 @@ std::string ValidatePiecewiseRay(const glm::vec<3, Real>& origin,
   }
   L = TotalLength(segments, count);
   return ValidateSegments(segments, count);
+}
+
+// Empty when IntegratePiecewise can integrate the ray, else why; L as
+// ValidatePiecewiseRay's.
+template <typename Real, typename VolumeT>
+std::string ValidatePiecewise(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
+  const PiecewiseTransferFunction<Real>& tf, Real tolerance, Real& L)
+{
+  L = Real(0);
+  // The alpha model's floor was checked when `tf` was built.
+  std::string error = ValidatePiecewiseTolerance(tolerance, OpacityModel::Extinction);
+  if (!error.empty())
+  {
+    return error;
+  }
+  if (tf.GetNumberOfPieces() == 0)
+  {
+    return "the piecewise transfer function was not built";
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (volume.GetDimension(a) < 2)
+    {
+      return "the volume needs at least 2 points along each axis";
+    }
+  }
+  return ValidatePiecewiseRay(origin, direction, segments, count, L);
 }
 
 // Why a ray's piece was refused: SubintervalsJ gave NaN.
@@ -629,27 +681,9 @@ RayResult<Real> IntegratePiecewise(const VolumeT& volume, const glm::vec<3, Real
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
-  // The alpha model's floor was checked when `tf` was built.
-  result.Error = ValidatePiecewiseTolerance(tolerance, OpacityModel::Extinction);
-  if (!result.Error.empty())
-  {
-    return result;
-  }
-  if (tf.GetNumberOfPieces() == 0)
-  {
-    result.Error = "the piecewise transfer function was not built";
-    return result;
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    if (volume.GetDimension(a) < 2)
-    {
-      result.Error = "the volume needs at least 2 points along each axis";
-      return result;
-    }
-  }
   Real L;
-  result.Error = detail::ValidatePiecewiseRay(origin, direction, segments, count, L);
+  result.Error =
+    detail::ValidatePiecewise(volume, origin, direction, segments, count, tf, tolerance, L);
   if (!result.Error.empty() || !(L > Real(0)))
   {
     return result;

@@ -23,6 +23,7 @@
 #ifndef avos_numerics_Shading_h
 #define avos_numerics_Shading_h
 
+#include "avos/numerics/Enclosure.h"
 #include "avos/numerics/Volume.h"
 
 #include <glm/glm.hpp>
@@ -91,37 +92,214 @@ struct ShadingModel
   // `gradient`, seen from the unit direction `toViewer`.
   Vector Shade(const Vector& color, const Vector& gradient, const Vector& toViewer) const
   {
-    Vector lit = this->Ambient * color;
-    const Real length = glm::length(gradient);
-    if (length > Real(0) && std::isfinite(length))
-    {
-      const Vector n = gradient / length;
-      Vector diffuse(Real(0)), specular(Real(0));
-      for (const DirectionalLight<Real>& light : this->Lights)
-      {
-        Real nl = glm::dot(n, light.Direction);
-        const Vector half = light.Direction + toViewer;
-        const Real halfLength = glm::length(half);
-        Real nh = halfLength > Real(0) ? glm::dot(n, half) / halfLength : Real(0);
-        if (this->TwoSided)
-        {
-          nl = std::abs(nl);
-          nh = std::abs(nh);
-        }
-        if (nl > Real(0))
-        {
-          diffuse += nl * light.Diffuse;
-        }
-        if (nh > Real(0))
-        {
-          specular += std::pow(nh, this->SpecularPower) * light.Specular;
-        }
-      }
-      lit += this->Diffuse * diffuse * color + this->Specular * specular;
-    }
-    return glm::clamp(lit, Vector(Real(0)), Vector(Real(1)));
+    const Real c[3] = { color.r, color.g, color.b };
+    const Real g[3] = { gradient.x, gradient.y, gradient.z };
+    Real lit[3];
+    LitColour(*this, c, g, toViewer, lit);
+    return Vector(lit[0], lit[1], lit[2]);
   }
 };
+
+namespace detail
+{
+// The model's operations on plain numbers and on Jets (Enclosure.h), so that
+// one LitColour gives a sample's colour and its enclosure over an interval.
+// A Jet crossing a kink (|x| or max(0, x) at 0, the clamp at 0 or 1) becomes
+// Rough: its value bounds stay valid, its derivatives are unknown.
+enum class Sign
+{
+  Zero,
+  Positive,
+  Either // a Jet whose values hold 0 and positive ones
+};
+
+// Whether the gradient g, of squared length `squared`, vanishes.
+template <typename Real>
+Sign GradientSign(const Real*, Real squared)
+{
+  return squared > Real(0) && std::isfinite(squared) ? Sign::Positive : Sign::Zero;
+}
+
+// A Jet's outward rounding widens an exact 0 to +-1e-308, so a gradient
+// whose components are the constant 0 (a cell of equal corners) is tested
+// on them.
+template <typename Real>
+Sign GradientSign(const Jet<Real>* g, const Jet<Real>& squared)
+{
+  if (squared.V.Lo > Real(0) && std::isfinite(squared.V.Hi))
+  {
+    return Sign::Positive;
+  }
+  bool zero = true;
+  for (int k = 0; k < 3; ++k)
+  {
+    zero = zero && g[k].V.Lo == Real(0) && g[k].V.Hi == Real(0);
+  }
+  return zero || squared.V.Hi <= Real(0) ? Sign::Zero : Sign::Either;
+}
+
+template <typename Real>
+Real InverseSqrt(Real x)
+{
+  return Real(1) / std::sqrt(x);
+}
+
+template <typename Real>
+Jet<Real> InverseSqrt(const Jet<Real>& x)
+{
+  return Pow(x, Real(-0.5));
+}
+
+// A cosine: n.l or n.h, in [-1, 1] whatever its enclosure says (a Jet over
+// a stretch where the gradient nearly vanishes may be far wider, or NaN).
+template <typename Real>
+Real Cosine(Real x)
+{
+  return x;
+}
+
+template <typename Real>
+Jet<Real> Cosine(const Jet<Real>& x)
+{
+  if (x.V.Lo >= Real(-1) && x.V.Hi <= Real(1))
+  {
+    return x;
+  }
+  return Jet<Real>::Rough(x.V.Lo >= Real(-1) && x.V.Lo <= Real(1) ? Bounds<Real>(x.V.Lo, Real(1))
+      : x.V.Hi >= Real(-1) && x.V.Hi <= Real(1)                   ? Bounds<Real>(Real(-1), x.V.Hi)
+                                                : Bounds<Real>(Real(-1), Real(1)));
+}
+
+// |x| (two-sided lighting) or max(0, x).
+template <typename Real>
+Real Facing(Real x, bool twoSided)
+{
+  return twoSided ? std::abs(x) : std::max(x, Real(0));
+}
+
+template <typename Real>
+Jet<Real> Facing(const Jet<Real>& x, bool twoSided)
+{
+  if (x.V.Lo >= Real(0))
+  {
+    return x;
+  }
+  if (x.V.Hi <= Real(0))
+  {
+    return twoSided ? -x : Jet<Real>(Real(0));
+  }
+  return Jet<Real>::Rough(Bounds<Real>(Real(0), twoSided ? x.V.Magnitude() : x.V.Hi));
+}
+
+// x^p for x >= 0, 0 at x = 0 (as VTK's mappers skip a facing term of 0).
+template <typename Real>
+Real FacingPower(Real x, Real p)
+{
+  return x > Real(0) ? std::pow(x, p) : Real(0);
+}
+
+// The same but at the single point x = 0 when p = 0 (1 there): no integral
+// sees a point.
+template <typename Real>
+Jet<Real> FacingPower(const Jet<Real>& x, Real p)
+{
+  return Pow(x, p);
+}
+
+template <typename Real>
+Real Clamp01(Real x)
+{
+  return std::min(std::max(x, Real(0)), Real(1));
+}
+
+template <typename Real>
+Jet<Real> Clamp01(const Jet<Real>& x)
+{
+  if (x.V.Lo >= Real(0) && x.V.Hi <= Real(1))
+  {
+    return x;
+  }
+  const Real lo = std::min(std::max(x.V.Lo, Real(0)), Real(1));
+  const Real hi = std::min(std::max(x.V.Hi, Real(0)), Real(1));
+  if (lo == hi)
+  {
+    return Jet<Real>(lo); // wholly clamped: a constant
+  }
+  return Jet<Real>::Rough(
+    Bounds<Real>(std::isnan(lo) ? Real(0) : lo, std::isnan(hi) ? Real(1) : hi));
+}
+
+template <typename Real>
+Real Either(Real a, Real)
+{
+  return a;
+}
+
+// The hull of two cases, where either may hold.
+template <typename Real>
+Jet<Real> Either(const Jet<Real>& a, const Jet<Real>& b)
+{
+  return Jet<Real>::Rough(Hull(a.V, b.V));
+}
+} // namespace detail
+
+// The lit colour of ShadingModel::Shade, channel by channel, on plain numbers
+// (T = Real) or on Jets (an enclosure of the lit colour over an interval of
+// the ray, each input a Jet of the same variable): `colour` the sample's
+// colour, `gradient` its world-space gradient, `toViewer` the unit direction
+// towards the viewer.
+template <typename Real, typename T>
+void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradient[3],
+  const glm::vec<3, Real>& toViewer, T lit[3])
+{
+  T ambient[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    ambient[c] = model.Ambient * colour[c];
+  }
+  const T squared =
+    gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2];
+  const detail::Sign sign = detail::GradientSign(gradient, squared);
+  if (sign == detail::Sign::Zero)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      lit[c] = detail::Clamp01(ambient[c]);
+    }
+    return;
+  }
+  const T inverse = detail::InverseSqrt(squared);
+  const T n[3] = { gradient[0] * inverse, gradient[1] * inverse, gradient[2] * inverse };
+  T diffuse[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
+  T specular[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
+  for (const DirectionalLight<Real>& light : model.Lights)
+  {
+    const glm::vec<3, Real>& l = light.Direction;
+    const T nl =
+      detail::Facing(detail::Cosine(n[0] * l.x + n[1] * l.y + n[2] * l.z), model.TwoSided);
+    const glm::vec<3, Real> half = l + toViewer;
+    const Real halfLength = glm::length(half);
+    const T nh = halfLength > Real(0)
+      ? detail::Facing(detail::Cosine((n[0] * half.x + n[1] * half.y + n[2] * half.z) / halfLength),
+          model.TwoSided)
+      : T(Real(0));
+    const T highlight = detail::FacingPower(nh, model.SpecularPower);
+    for (int c = 0; c < 3; ++c)
+    {
+      diffuse[c] = diffuse[c] + nl * light.Diffuse[c];
+      specular[c] = specular[c] + highlight * light.Specular[c];
+    }
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    T value = ambient[c] + model.Diffuse * diffuse[c] * colour[c] + model.Specular * specular[c];
+    if (sign == detail::Sign::Either)
+    {
+      value = detail::Either(value, ambient[c]);
+    }
+    lit[c] = detail::Clamp01(value);
+  }
+}
 
 // A ray through a trilinear volume whose emission is shaded: the `field`
 // argument of IntegrateRiemann / IntegrateAdaptive (RayIntegrators.h), which

@@ -1,0 +1,274 @@
+// The piecewise method with shading (PiecewiseShading.h) against the
+// independent oracle of ShadedOracle.h: every channel of every ray within the
+// tolerance, on the adversarial suite's volumes and transfer functions, lit
+// adversarially (specular power 128, one- and two-sided lighting, coloured
+// lights, an anisotropic grid), in both opacity models; a gradient vanishing
+// inside a cell; the lit colour's enclosures; and refusals.
+#include "avos/numerics/PiecewiseShading.h"
+
+#include "AdversarialCases.h"
+#include "ShadedOracle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace avos::numerics;
+namespace an = avos::numerics;
+namespace an = avos::numerics;
+
+namespace
+{
+double MaxError(const glm::dvec4& a, const glm::dvec4& b)
+{
+  double e = 0.0;
+  for (int c = 0; c < 4; ++c)
+  {
+    e = std::max(e, std::abs(a[c] - b[c]));
+  }
+  return e;
+}
+
+// VTK's defaults with a headlight, and an adversarial model: a sharp
+// highlight, one-sided lighting, two coloured lights.
+ShadingModel<double> Headlight(const glm::dvec3& toViewer)
+{
+  ShadingModel<double> m;
+  m.Lights.push_back({ toViewer, glm::dvec3(1.0), glm::dvec3(1.0) });
+  return m;
+}
+
+ShadingModel<double> Sharp()
+{
+  ShadingModel<double> m;
+  m.Ambient = 0.05;
+  m.Diffuse = 0.6;
+  m.Specular = 0.7;
+  m.SpecularPower = 128.0;
+  m.TwoSided = false;
+  m.Lights.push_back({ glm::normalize(glm::dvec3(0.3, -0.5, 0.8)), glm::dvec3(0.9, 0.7, 0.5),
+    glm::dvec3(1.0, 0.9, 0.8) });
+  m.Lights.push_back(
+    { glm::normalize(glm::dvec3(-0.6, 0.2, 0.3)), glm::dvec3(0.2, 0.3, 0.6), glm::dvec3(0.5) });
+  return m;
+}
+
+struct Outcome
+{
+  double MaximumError = 0.0;
+  long Samples = 0;
+  long Pieces = 0;
+};
+
+// Rays of adversarial case `c` with `model` at `eps` against the oracle.
+Outcome Compare(const adversarial::Case& c, bool sharp, const glm::dmat3& normalMatrix, double eps,
+  OpacityModel opacity, int rays)
+{
+  an::TransferFunction<double> tf = c.TF;
+  tf.SetOpacityModel(opacity, 1.0);
+  tf.Finalize();
+  PiecewiseTransferFunction<double> pieces, exact;
+  EXPECT_EQ(pieces.Build(tf, PiecewiseRelativeError(eps)), "");
+  EXPECT_EQ(exact.Build(tf, PiecewiseTransferFunction<double>::MinimumRelativeError), "");
+  const TrilinearVolume<double, double> volume(c.Data.data(), c.Dimensions);
+  Outcome o;
+  for (int i = 0; i < rays; ++i)
+  {
+    const adversarial::Ray ray = adversarial::MakeRay(c, static_cast<unsigned>(i));
+    const glm::dvec3 toViewer = -ray.Direction;
+    const ShadingModel<double> model = sharp ? Sharp() : Headlight(toViewer);
+    const RayShading<double> shading{ &model, normalMatrix, toViewer };
+    const Interval<double> whole{ 0.0, ray.Length };
+    // No early termination: the oracle integrates the whole ray.
+    const RayResult<double> r = IntegratePiecewiseShaded(
+      volume, ray.Origin, ray.Direction, &whole, 1, pieces, eps, shading, false);
+    EXPECT_EQ(r.Error, "") << c.Name << ", ray " << i;
+    const glm::dvec4 oracle = oracles::ShadedRay(
+      volume, tf, exact, ray.Origin, ray.Direction, ray.Length, model, normalMatrix, toViewer);
+    const double e = MaxError(r.RGBA, oracle);
+    EXPECT_LE(e, eps) << c.Name << ", ray " << i << (sharp ? ", sharp" : ", headlight");
+    o.MaximumError = std::max(o.MaximumError, e);
+    o.Samples += r.Statistics.Samples;
+    o.Pieces += r.Statistics.Pieces;
+  }
+  return o;
+}
+} // namespace
+
+TEST(PiecewiseShading, AdversarialSuiteWithinTheToleranceOfAnExactOracle)
+{
+  // An anisotropic grid: spacing (1, 2, 0.5), so gradients map to world by
+  // the inverse transpose diag(1, 0.5, 2).
+  const glm::dmat3 anisotropic(
+    glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(0.0, 0.5, 0.0), glm::dvec3(0.0, 0.0, 2.0));
+  for (const adversarial::Case& c : adversarial::MakeSuite())
+  {
+    for (double eps : { 1e-2, 1e-3 })
+    {
+      for (bool sharp : { false, true })
+      {
+        const Outcome o = Compare(c, sharp, sharp ? anisotropic : glm::dmat3(1.0), eps,
+          sharp ? OpacityModel::Alpha : OpacityModel::Extinction, 6);
+        std::printf("%-34s eps %g %-9s max error %.2e, %.1f samples per piece\n", c.Name.c_str(),
+          eps, sharp ? "sharp" : "headlight", o.MaximumError,
+          o.Pieces ? double(o.Samples) / double(o.Pieces) : 0.0);
+      }
+    }
+  }
+}
+
+// Gradients that vanish inside a cell, on rays through where they do:
+// - a saddle, s = (x - m)(y - m') + (y - m')(z - m'') + (z - m'')(x - m),
+//   which trilinear interpolation reproduces, its gradient 0 at the point m
+//   alone: one-sided lighting flips the normal there (the lit colour jumps),
+//   two-sided lighting has a kink;
+// - s = |x - m|^2 sampled with m a cell's centre: that cell's corners are
+//   equal, its gradient 0 throughout (ambient only).
+TEST(PiecewiseShading, GradientVanishingInsideACell)
+{
+  const int dims[3] = { 6, 6, 6 };
+  const glm::dvec3 saddle(2.3, 2.6, 2.45), centre(2.5);
+  for (bool point : { true, false })
+  {
+    std::vector<double> data;
+    for (int k = 0; k < dims[2]; ++k)
+      for (int j = 0; j < dims[1]; ++j)
+        for (int i = 0; i < dims[0]; ++i)
+        {
+          const glm::dvec3 x = glm::dvec3(i, j, k) - (point ? saddle : centre);
+          data.push_back(point ? x.x * x.y + x.y * x.z + x.z * x.x : glm::dot(x, x));
+        }
+    const TrilinearVolume<double, double> volume(data.data(), dims);
+    const glm::dvec3 m = point ? saddle : centre;
+    ASSERT_LT(glm::length(volume.Gradient(m)), 1e-14);
+    // Beside m: a gradient at the saddle, none in the flat cell.
+    ASSERT_EQ(glm::length(volume.Gradient(m + glm::dvec3(0.1, 0.0, 0.0))) > 0.05, point);
+    an::TransferFunction<double> tf;
+    tf.AddOpacityKnot(-8.0, 0.0);
+    tf.AddOpacityKnot(0.0, 0.8);
+    tf.AddOpacityKnot(8.0, 0.1);
+    tf.AddOpacityKnot(20.0, 0.0);
+    tf.AddColorKnot(-8.0, 0.3, 1.0, 0.3);
+    tf.AddColorKnot(0.0, 1.0, 0.8, 0.3);
+    tf.AddColorKnot(20.0, 0.2, 0.4, 1.0);
+    tf.Finalize();
+    PiecewiseTransferFunction<double> pieces, exact;
+    ASSERT_EQ(exact.Build(tf, 1e-7), "");
+    std::mt19937 rng(5);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    for (double eps : { 1e-2, 1e-3 })
+    {
+      ASSERT_EQ(pieces.Build(tf, PiecewiseRelativeError(eps)), "");
+      for (int i = 0; i < 8; ++i)
+      {
+        const glm::dvec3 d = glm::normalize(glm::dvec3(normal(rng), normal(rng), normal(rng)));
+        double t0 = -1e9, t1 = 1e9;
+        ASSERT_TRUE(ClipToGrid(m, d, dims, t0, t1));
+        const glm::dvec3 origin = m + t0 * d;
+        ShadingModel<double> model = Sharp();
+        model.TwoSided = i % 2 == 0;
+        const RayShading<double> shading{ &model, glm::dmat3(1.0), -d };
+        const Interval<double> whole{ 0.0, t1 - t0 };
+        const RayResult<double> r =
+          IntegratePiecewiseShaded(volume, origin, d, &whole, 1, pieces, eps, shading, false);
+        ASSERT_EQ(r.Error, "");
+        const glm::dvec4 oracle =
+          oracles::ShadedRay(volume, tf, exact, origin, d, t1 - t0, model, glm::dmat3(1.0), -d);
+        EXPECT_LE(MaxError(r.RGBA, oracle), eps) << (point ? "saddle" : "flat") << ", ray " << i;
+        EXPECT_GT(oracle.a, 0.1) << "the ray crosses the visible centre";
+      }
+    }
+  }
+}
+
+// The certificate itself: over random sub-intervals of random pieces, the
+// lit colour's Jet encloses every sample of the lit colour, and the
+// quadratic built from it is within its delta of them.
+TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
+{
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const ShadingModel<double> models[2] = { Headlight(glm::dvec3(0.0, 0.0, 1.0)), Sharp() };
+  const glm::dvec3 toViewer = glm::normalize(glm::dvec3(0.2, 0.1, 1.0));
+  long quadratics = 0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const ShadingModel<double>& model = models[trial % 2];
+    double G[3][3], C[3][2];
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        G[a][k] = u(rng);
+      }
+      C[a][0] = 0.5 + 0.5 * u(rng);
+      C[a][1] = 0.3 * u(rng);
+    }
+    const double v0 = u(rng), h = std::pow(10.0, -3.0 * (u(rng) + 1.0)); // 1e-6 .. 1
+    const Jet<double> x = Jet<double>::Variable(Bounds<double>(v0, v0 + h));
+    Jet<double> colour[3], gradient[3], lit[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      colour[a] = C[a][0] + C[a][1] * x;
+      gradient[a] = G[a][0] + x * (G[a][1] + x * G[a][2]);
+    }
+    LitColour(model, colour, gradient, toViewer, lit);
+    detail::LitApproximation<double> a;
+    const double c = v0 + h / 2.0;
+    detail::Approximate(lit, c, x.Radius, 1.0, 0.0, a);
+    for (int k = 0; k < 3; ++k)
+    {
+      quadratics += a.Quadratic[k] ? 1 : 0;
+    }
+    for (int i = 0; i <= 16; ++i)
+    {
+      const double v = v0 + h * i / 16.0;
+      double col[3], grad[3], value[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        col[k] = C[k][0] + C[k][1] * v;
+        grad[k] = G[k][0] + v * (G[k][1] + v * G[k][2]);
+      }
+      LitColour(model, col, grad, toViewer, value);
+      for (int k = 0; k < 3; ++k)
+      {
+        ASSERT_TRUE(lit[k].V.Contains(value[k])) << "trial " << trial << ", channel " << k;
+        const double P =
+          a.Quadratic[k] ? a.F[k] + (v - c) * (a.F1[k] + (v - c) * a.F2[k] / 2.0) : a.Constant[k];
+        ASSERT_LE(std::abs(P - value[k]), a.Delta[k] * (1.0 + 1e-9) + 1e-15)
+          << "trial " << trial << ", channel " << k;
+      }
+    }
+  }
+  EXPECT_GT(quadratics, 1000) << "the quadratics are tested, not only the constants";
+}
+
+TEST(PiecewiseShading, BadInput)
+{
+  const int dims[3] = { 2, 2, 2 };
+  const double data[8] = { 0, 1, 0, 1, 0, 1, 0, 1 };
+  const TrilinearVolume<double, double> volume(data, dims);
+  an::TransferFunction<double> tf;
+  tf.AddOpacityKnot(0.0, 1.0);
+  tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  tf.Finalize();
+  PiecewiseTransferFunction<double> pieces;
+  ASSERT_EQ(pieces.Build(tf, 1e-3), "");
+  const Interval<double> whole{ 0.0, 1.0 };
+  const glm::dvec3 o(0.0, 0.5, 0.5), d(1.0, 0.0, 0.0);
+  ShadingModel<double> model = Sharp();
+  RayShading<double> shading{ nullptr, glm::dmat3(1.0), -d };
+  EXPECT_EQ(IntegratePiecewiseShaded(volume, o, d, &whole, 1, pieces, 1e-3, shading).Error,
+    "no shading model");
+  shading.Model = &model;
+  model.Specular = -1.0;
+  EXPECT_NE(IntegratePiecewiseShaded(volume, o, d, &whole, 1, pieces, 1e-3, shading).Error, "");
+  model.Specular = 0.5;
+  EXPECT_NE(IntegratePiecewiseShaded(volume, o, d, &whole, 1, pieces, 0.0, shading).Error, "");
+  const RayResult<double> r =
+    IntegratePiecewiseShaded(volume, o, d, &whole, 1, pieces, 1e-3, shading);
+  EXPECT_EQ(r.Error, "");
+  EXPECT_GT(r.RGBA.a, 0.5);
+}

@@ -1,0 +1,389 @@
+// Shading in the piecewise method: the lit emission of Shading.h integrated
+// piece by piece (PiecewiseIntegrator.h) with a proven error.
+//
+// On a piece, v in [0, l] from its start, the depth theta(v) and the
+// transmittance T = Ta e^{-theta} are exact as without shading; the emission
+// is tau(v) L(v), L the lit colour (LitColour): the colour C(s(v)) lit by the
+// exact gradient of the trilinear interpolant, whose world-space components
+// along the ray are quadratics in v. L has no closed-form integral against
+// tau T, so it is enclosed. On a sub-interval X = [v0, v1] of the piece, one
+// evaluation of LitColour on Jets (Enclosure.h) encloses, per channel, L(X),
+// and where L is smooth on X also L(c) and L'(c) at X's centre c and L''(X).
+// Two approximations of L on X with proven errors:
+// - the constant P = mid L(X): |L - P| <= delta0 = width L(X) / 2;
+// - the quadratic P(v) = f + f1 (v - c) + f2 (v - c)^2 / 2, f, f1, f2 the
+//   midpoints of the enclosures of L(c), L'(c), L''(X): by Taylor's theorem
+//   |L - P| <= delta2 = w L(c) / 2 + w L'(c) r / 2 + w L''(X) r^2 / 4, r the
+//   radius of X (w the enclosure's width; delta2 shrinks as r^3).
+// The weight tau T is positive and its integral over X is the transmittance
+// dT spent there, exactly, so |int_X (L - P) tau T| <= delta dT. The rest is
+// by parts (d/dv T = -tau T):
+//   int_X P tau T = P(v0) T(v0) - P(v1) T(v1) + int_X P' T,
+// the last term 0 for the constant; for the quadratic (P' linear) T(v0) times
+// int_0^h P'(v0 + u) e^{-(theta(v0 + u) - theta(v0))} du, which the series of
+// PiecewiseIntegrator.h gives with a proven truncation error, the three
+// channels at once, or, where P' keeps its sign, the midpoint of its bounds
+// dP e^{-dtheta} and dP, within |dP| dT / 2 (second mean value theorem).
+//
+// Tolerance eps, per channel:
+// - 0.55 eps for the lit colour: sub-interval X may err by its share,
+//   0.275 eps (dT + h / L) (h its length, L the ray's visible length), half
+//   for delta dT and half for the P' term; the shares of all sub-intervals
+//   add up to at most 0.55 eps (sum dT <= 1, sum h <= L).
+// - 0.05 eps for sub-intervals that reach the floor l 2^-40 without fitting
+//   their share (a kink of L, or a gradient vanishing at a point, inside):
+//   they take the constant, whose delta0 <= 1/2 (L is clamped to [0, 1]),
+//   and what they exceed their share by is summed; past 0.05 eps the ray
+//   reports an error instead of a colour outside the tolerance.
+// - 0.15 eps for early termination: the ray stops once T is below it (the
+//   lit colour is at most 1).
+// - 0.25 eps for VTK's alpha model, as without shading.
+// So every channel of every ray is within eps, up to rounding.
+//
+// Termination. A sub-interval is accepted (v advances by its length h, at
+// least the floor but at the piece's end; h then doubles) or halved, at most
+// 41 times in a row before h reaches the floor, where it is accepted. So a
+// piece takes at most 42 (2^40 + 1) evaluations. Since that would never end
+// in practice, a piece is refused beyond MaximumSubintervals evaluations
+// (the ray reports an error). A smooth L needs few: delta2 shrinks as h^3.
+// A kink of L (n.l or n.h changing sign, the clamp switching) makes its
+// sub-interval Rough, whose delta0 shrinks as h: about log2(L' / eps)
+// halvings around each kink.
+//
+// A sample is one evaluation of the lit colour's enclosure.
+#ifndef avos_numerics_PiecewiseShading_h
+#define avos_numerics_PiecewiseShading_h
+
+#include "avos/numerics/Enclosure.h"
+#include "avos/numerics/PiecewiseIntegrator.h"
+#include "avos/numerics/Shading.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+// The shading of one ray: the model, the normal matrix that maps a gradient
+// in the volume's grid coordinates to world space, and the unit direction
+// towards the viewer (constant along the ray).
+template <typename Real>
+struct RayShading
+{
+  const ShadingModel<Real>* Model = nullptr;
+  glm::mat<3, 3, Real> NormalMatrix{ Real(1) };
+  glm::vec<3, Real> ToViewer{ Real(0), Real(0), Real(1) };
+};
+
+namespace detail
+{
+// The world-space gradient of the trilinear interpolant along the piece `rp`
+// of the ray origin + t direction (grid coordinates): G[a][k] the
+// coefficient of v^k of component a, v from the piece's start.
+template <typename Real, typename VolumeT>
+void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const RayPiece<Real>& rp,
+  const glm::mat<3, 3, Real>& normalMatrix, Real G[3][3])
+{
+  // The piece lies in one cell: the one holding its middle.
+  const glm::vec<3, Real> middle = origin + (rp.Begin + rp.Length / Real(2)) * direction;
+  int index[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const Real f = std::floor(middle[a]);
+    const int last = volume.GetDimension(a) - 2;
+    index[a] = f >= Real(last) ? last : (f > Real(0) ? static_cast<int>(f) : 0);
+  }
+  Real c[8];
+  volume.GetCorners(index[0], index[1], index[2], c);
+  // f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz in the cell (CellCubic),
+  // at x = e + v d.
+  const Real B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
+  const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
+  const Real Gc = c[6] - c[4] - c[2] + c[0];
+  const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
+  const glm::vec<3, Real> e = origin + rp.Begin * direction -
+    glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2]));
+  const glm::vec<3, Real>& d = direction;
+  // df/dx = B + E y + F z + H y z, and so on, in powers of v.
+  const glm::vec<3, Real> grid[3] = {
+    { B + E * e.y + F * e.z + H * e.y * e.z, C + E * e.x + Gc * e.z + H * e.x * e.z,
+      D + F * e.x + Gc * e.y + H * e.x * e.y },
+    { E * d.y + F * d.z + H * (e.y * d.z + e.z * d.y),
+      E * d.x + Gc * d.z + H * (e.x * d.z + e.z * d.x),
+      F * d.x + Gc * d.y + H * (e.x * d.y + e.y * d.x) },
+    { H * d.y * d.z, H * d.x * d.z, H * d.x * d.y },
+  };
+  for (int k = 0; k < 3; ++k)
+  {
+    const glm::vec<3, Real> world = normalMatrix * grid[k];
+    for (int a = 0; a < 3; ++a)
+    {
+      G[a][k] = world[a];
+    }
+  }
+}
+
+// The floor of a piece's sub-intervals, relative to its length: 2^-40.
+constexpr double ShadedFloor = 9.094947017729282e-13;
+
+// The lit colour's approximation on one sub-interval, per channel: the
+// constant Constant, or (Quadratic) F + F1 (v - Centre) + F2 (v - Centre)^2 / 2,
+// within Delta of L.
+template <typename Real>
+struct LitApproximation
+{
+  bool Quadratic[3];
+  Real Constant[3];
+  Real F[3], F1[3], F2[3];
+  Real Delta[3];
+  Real Centre;
+};
+
+// Fills `a` from the Jets of the lit colour over [v0, v1] (centre c, radius
+// r): per channel the constant unless its error times dT exceeds `limit` and
+// the quadratic's is smaller. True when every channel's delta dT is within
+// `limit`.
+template <typename Real>
+bool Approximate(
+  const Jet<Real> lit[3], Real c, Real r, Real dT, Real limit, LitApproximation<Real>& a)
+{
+  a.Centre = c;
+  bool fits = true;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Jet<Real>& L = lit[k];
+    const Real delta0 = L.V.Width() / Real(2);
+    Real delta2 = std::numeric_limits<Real>::infinity();
+    if (L.Smooth && L.Centred)
+    {
+      delta2 = L.F.Width() / Real(2) + L.F1.Width() / Real(2) * r + L.D2.Width() / Real(4) * r * r;
+      delta2 = std::isfinite(delta2) ? delta2 : std::numeric_limits<Real>::infinity();
+    }
+    a.Quadratic[k] = !(delta0 * dT <= limit) && delta2 < delta0;
+    if (a.Quadratic[k])
+    {
+      a.F[k] = L.F.Lo + L.F.Width() / Real(2);
+      a.F1[k] = L.F1.Lo + L.F1.Width() / Real(2);
+      a.F2[k] = L.D2.Lo + L.D2.Width() / Real(2);
+      a.Delta[k] = delta2;
+    }
+    else
+    {
+      a.Constant[k] = L.V.Lo + L.V.Width() / Real(2);
+      a.Delta[k] = delta0;
+    }
+    fits = fits && a.Delta[k] * dT <= limit;
+  }
+  return fits;
+}
+
+// int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
+// e^{-theta(l)} = El, transmittance Ta in front, world gradient G), added
+// to `color`; see above. `scale` turns (dT + h / L) into a share, `inverseL`
+// is 1 / L; what floor sub-intervals exceed their share by is added to
+// `overdraft`. False when the piece is refused (MaximumSubintervals).
+template <typename Real>
+bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
+  const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
+  const RayShading<Real>& shading, Real scale, Real inverseL, glm::vec<3, Real>& color,
+  Real& overdraft, RayStatistics<Real>& stats)
+{
+  using JetR = Jet<Real>;
+  const Real floor = l * Real(ShadedFloor);
+  Real v = Real(0), h = l, Ev = Real(1);
+  for (long count = 0; v < l && Ev > Real(0); ++count)
+  {
+    if (count == MaximumSubintervals)
+    {
+      return false;
+    }
+    h = std::min(h, l - v);
+    const Real end = l - v <= h ? l : v + h;
+    const Real width = end - v;
+    const Real Eh = end == l ? El : std::exp(-depth(end));
+    const Real dT = Ta * (Ev - Eh);
+    const Real share = scale * (dT + width * inverseL);
+    const bool atFloor = h <= floor; // not width: v + h - v may round above it
+
+    const JetR u = JetR::Variable(Bounds<Real>(v, end));
+    const JetR s = q.K[0] + u * (q.K[1] + u * (q.K[2] + u * q.K[3]));
+    JetR colour[3], gradient[3], lit[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      colour[k] = p.Colour[k] + p.ColourSlope[k] * s;
+      // An exact 0 where the cell's corners are equal (no outward rounding).
+      gradient[k] = G[k][0] == Real(0) && G[k][1] == Real(0) && G[k][2] == Real(0)
+        ? JetR(Real(0))
+        : G[k][0] + u * (G[k][1] + u * G[k][2]);
+    }
+    LitColour(*shading.Model, colour, gradient, shading.ToViewer, lit);
+    ++stats.Samples;
+
+    LitApproximation<Real> a;
+    const Real c = v + width / Real(2);
+    bool fits = Approximate(lit, c, u.Radius, dT, share / Real(2), a);
+    // The P' terms: T(v0) int P' e^{-dtheta}, per channel (0 for a constant).
+    Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
+    Real g[3][3], limits[3];
+    bool series = false;
+    for (int k = 0; k < 3 && fits; ++k)
+    {
+      g[k][0] = g[k][1] = g[k][2] = Real(0);
+      limits[k] = share / Real(2);
+      if (!a.Quadratic[k])
+      {
+        Pv[k] = Pe[k] = a.Constant[k];
+        continue;
+      }
+      const Real x0 = v - c, x1 = end - c;
+      Pv[k] = a.F[k] + x0 * (a.F1[k] + x0 * a.F2[k] / Real(2));
+      Pe[k] = a.F[k] + x1 * (a.F1[k] + x1 * a.F2[k] / Real(2));
+      const Real s0 = a.F1[k] + a.F2[k] * x0, s1 = a.F1[k] + a.F2[k] * x1;
+      const Real dP = Pe[k] - Pv[k];
+      if (s0 * s1 >= Real(0) && std::abs(dP) * dT <= share)
+      {
+        terms[k] = Ta * dP * (Ev + Eh) / Real(2);
+        continue;
+      }
+      g[k][0] = s0;
+      g[k][1] = a.F2[k];
+      series = true;
+    }
+    if (fits && series)
+    {
+      Real theta[PieceDepth<Real>::MaximumDegree + 1];
+      std::copy(depth.D, depth.D + depth.Degree + 1, theta);
+      ShiftPolynomial(theta, depth.Degree, v);
+      const Real A = Magnitude(theta, depth.Degree, width);
+      Real sums[3];
+      fits =
+        A <= Real(1) && SubintervalSeries(theta, depth.Degree, g, width, A, Ta * Ev, limits, sums);
+      for (int k = 0; k < 3 && fits; ++k)
+      {
+        if (g[k][0] != Real(0) || g[k][1] != Real(0))
+        {
+          terms[k] = Ta * Ev * sums[k];
+        }
+      }
+    }
+    if (!fits && !atFloor)
+    {
+      ++stats.Rejected;
+      h = std::max(Real(0.5) * h, floor);
+      continue;
+    }
+    if (!fits)
+    {
+      // At the floor: the constants (lit[k].V within [0, 1]), their excess
+      // over the share counted.
+      Real excess = Real(0);
+      for (int k = 0; k < 3; ++k)
+      {
+        const Real delta0 = lit[k].V.Width() / Real(2);
+        Pv[k] = Pe[k] = lit[k].V.Lo + delta0;
+        terms[k] = Real(0);
+        excess = std::max(excess, delta0 * dT - share);
+      }
+      overdraft += excess;
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      color[k] += Ta * (Pv[k] * Ev - Pe[k] * Eh) + terms[k];
+    }
+    stats.Accept(width);
+    v = end;
+    Ev = Eh;
+    h *= Real(2);
+  }
+  return true;
+}
+} // namespace detail
+
+// The piecewise method (IntegratePiecewise) with the emission lit by
+// `shading` (Shading.h), within `tolerance` per channel; see above. The
+// volume must be trilinear (TrilinearVolume: a gradient per cell).
+template <typename Real, typename VolumeT>
+RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
+  const PiecewiseTransferFunction<Real>& tf, Real tolerance, const RayShading<Real>& shading,
+  bool earlyTermination = true, std::vector<StepRecord<detail::NotDeduced<Real>>>* steps = nullptr)
+{
+  RayResult<Real> result;
+  result.Statistics.Steps = steps;
+  Real L;
+  result.Error =
+    detail::ValidatePiecewise(volume, origin, direction, segments, count, tf, tolerance, L);
+  if (result.Error.empty())
+  {
+    result.Error = shading.Model ? shading.Model->Validate() : "no shading model";
+  }
+  if (!result.Error.empty() || !(L > Real(0)))
+  {
+    return result;
+  }
+  RayStatistics<Real>& stats = result.Statistics;
+  const Real scale = Real(0.275) * tolerance, reserve = Real(0.05) * tolerance;
+  const Real terminationBound = Real(0.15) * tolerance;
+  const Real inverseL = Real(1) / L;
+  glm::vec<3, Real> color(Real(0));
+  Real T = Real(1), overdraft = Real(0);
+  bool stopped = false;
+  auto visit = [&](const RayPiece<Real>& rp) -> bool
+  {
+    const auto& p = tf[rp.TF];
+    ++stats.Pieces;
+    const detail::PieceDepth<Real> depth(rp.Q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
+    const Real El = std::exp(-depth(rp.Length));
+    if (T * (Real(1) - El) > Real(0))
+    {
+      Real G[3][3];
+      detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
+      if (!detail::ShadedPiece(
+            rp.Q, p, depth, rp.Length, El, T, G, shading, scale, inverseL, color, overdraft, stats))
+      {
+        result.Error = detail::RefusedPieceError;
+      }
+      else if (overdraft > reserve)
+      {
+        result.Error = "the lit colour has kinks or vanishing gradients closer together than "
+                       "double precision separates (sub-intervals of 2^-40 of a piece exceed the "
+                       "tolerance's reserve)";
+      }
+    }
+    T *= El;
+    if (stats.Steps)
+    {
+      stats.Steps->push_back({ rp.Begin, rp.Length, Real(1) - T });
+    }
+    if (!result.Error.empty() || (earlyTermination && T <= terminationBound))
+    {
+      stats.Terminated = result.Error.empty();
+      stopped = true;
+    }
+    return !stopped;
+  };
+  for (std::size_t j = 0; j < count && !stopped; ++j)
+  {
+    PieceWalk(
+      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, visit);
+  }
+  if (!result.Error.empty())
+  {
+    return result;
+  }
+  detail::PiecewiseRGBA(color, T, result);
+  return result;
+}
+
+} // namespace numerics
+} // namespace avos
+
+#endif
