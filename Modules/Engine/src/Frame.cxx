@@ -2,6 +2,7 @@
 
 #include "avos/engine/EmptySpace.h"
 #include "avos/numerics/Extremum.h"
+#include "avos/numerics/PiecewiseShading.h"
 #include "avos/numerics/Volume.h"
 
 #include <algorithm>
@@ -91,6 +92,12 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
   return r;
 }
 
+// The unit direction towards the viewer of a ray in grid coordinates.
+glm::dvec3 ToViewer(const FrameMethod& method, const glm::dvec3& direction)
+{
+  return -glm::normalize(method.GridToWorld * direction);
+}
+
 // Calls f(field) with the ray start + t direction's field (grid coordinates):
 // shaded when the method shades, the scalar alone otherwise.
 template <typename VolumeT, typename F>
@@ -99,9 +106,8 @@ an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method
 {
   if (method.Shading)
   {
-    const glm::dvec3 toViewer = -glm::normalize(method.GridToWorld * direction);
-    return f(an::ShadedRayField<double, VolumeT>{
-      volume, start, direction, method.NormalMatrix, toViewer, *method.Shading });
+    return f(an::ShadedRayField<double, VolumeT>{ volume, start, direction, method.NormalMatrix,
+      ToViewer(method, direction), *method.Shading });
   }
   return f(an::RayField<double, VolumeT>{ volume, start, direction });
 }
@@ -270,6 +276,14 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
             { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       return;
     case Integration::Piecewise:
+      if (method.Shading)
+      {
+        const an::RayShading<double> shading{ method.Shading, method.NormalMatrix,
+          ToViewer(method, direction) };
+        result = an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
+          segments.size(), *method.Pieces, method.Adaptive.Tolerance, shading, true, steps);
+        return;
+      }
       // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).
       result = an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
         *method.Pieces, method.Adaptive.Tolerance, true, steps, method.Kernels);
@@ -391,7 +405,7 @@ public:
     this->TilesX = (frame.Rect[1] - frame.Rect[0] + TileSize - 1) / TileSize;
     const bool lanes = method.Kind == Integration::Riemann
       ? method.EngineVolume != nullptr
-      : method.Kind == Integration::Piecewise && method.PieceTable;
+      : method.Kind == Integration::Piecewise && method.PieceTable && !method.Shading;
     this->RaysPerLane = lanes && method.Mode == Blend::Composite && frame.Clip.IsEmpty();
   }
 

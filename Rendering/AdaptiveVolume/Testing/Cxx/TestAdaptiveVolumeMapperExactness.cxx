@@ -173,6 +173,8 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
     { "shaded coupled eps 1e-3", vtkAdaptiveVolumeMapper::ADAPTIVE_COUPLED, 1e-3, 1e-3 },
     { "shaded decoupled eps 1e-3", vtkAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED, 1e-3, 1e-3 },
     { "shaded reference", vtkAdaptiveVolumeMapper::REFERENCE, 1e-2, 1e-5 },
+    { "shaded piecewise eps 1e-2", vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE, 1e-2, 1e-2 },
+    { "shaded piecewise eps 1e-4", vtkAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE, 1e-4, 1e-4 },
   };
   for (const Run& run : shaded)
   {

@@ -88,6 +88,25 @@ struct ShadingModel
     return std::string();
   }
 
+  // The most a channel of the lit colour changes per unit change of the
+  // sample's colour: ka + kd max_c sum_l D_l,c (the clamp does not enlarge
+  // it), so a colour within delta of the transfer function's is lit within
+  // ColourGain() delta.
+  Real ColourGain() const
+  {
+    Real gain = Real(0);
+    for (int c = 0; c < 3; ++c)
+    {
+      Real sum = Real(0);
+      for (const DirectionalLight<Real>& light : this->Lights)
+      {
+        sum += light.Diffuse[c];
+      }
+      gain = std::max(gain, sum);
+    }
+    return this->Ambient + this->Diffuse * gain;
+  }
+
   // The lit colour of a sample of colour `color` whose world-space gradient is
   // `gradient`, seen from the unit direction `toViewer`.
   Vector Shade(const Vector& color, const Vector& gradient, const Vector& toViewer) const
