@@ -89,7 +89,7 @@ const char* Usage =
   "the scalars in --average-range), integrated along the ray in avos's methods.\n"
   "--shade: gradient shading (VTK's ambient 0.1, diffuse 0.7, specular 0.2, power 10,\n"
   "the headlight), with the analytic gradient of the trilinear field in avos's methods\n"
-  "(riemann, coupled, decoupled, reference; the piecewise method refuses it).\n";
+  "(riemann, coupled, decoupled, piecewise within its tolerance, reference).\n";
 
 struct Options
 {

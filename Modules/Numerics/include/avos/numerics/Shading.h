@@ -19,7 +19,9 @@
 // early-termination bound (which assumes a colour of at most max(1, max C))
 // valid. The shaded integrand is smooth except where the gradient vanishes,
 // changes cell, or a max(0, .) or the clamp switches: the adaptive rules
-// control its error as they do the unshaded one's (by Simpson's estimate).
+// control its error as they do the unshaded one's (by Simpson's estimate),
+// the piecewise method proves it (PiecewiseShading.h, with LitColour on
+// Jets).
 #ifndef avos_numerics_Shading_h
 #define avos_numerics_Shading_h
 
