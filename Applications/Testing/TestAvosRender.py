@@ -261,14 +261,16 @@ print("mean alpha: additive %.5f, average %.5f, average over [100, 120] %.5f"
       % (additive, wide, narrow))
 check(additive > 0.1 and 0 < narrow < wide, "additive and average render")
 
-# Shading: the coupled method lights the emission (the colours change, the
-# report says so); the piecewise method refuses it with a message.
+# Shading: the coupled and piecewise methods light the emission (the report
+# says so); a projection refuses it with a message.
 shaded_report = os.path.join(SCRATCH, "shaded.json")
-code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "coupled", "--shade",
-                "--report", shaded_report)
-check(code == 0 and json.load(open(shaded_report))["shade"] is True, "--shade renders: " + out)
-code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise", "--shade")
-check(code not in (0, -6, -11) and "Cannot shade" in out, "piecewise refuses --shade: " + out)
+for method in ("coupled", "piecewise"):
+    code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", method, "--shade",
+                    "--report", shaded_report)
+    check(code == 0 and json.load(open(shaded_report))["shade"] is True,
+          method + " --shade renders: " + out)
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--blend", "maximum", "--shade")
+check(code not in (0, -6, -11) and "Cannot shade" in out, "a projection refuses --shade: " + out)
 
 # Outputs are written whole or not at all: a failing run leaves the previous
 # image and report as they were, and no partial file stays behind.

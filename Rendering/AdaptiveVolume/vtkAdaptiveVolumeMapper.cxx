@@ -554,9 +554,10 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   // method's colours are converted within a share of its eps where VTK's
   // are not piecewise linear, and the rays integrated to the rest; lit, a
   // colour's error is multiplied by up to the shading's colour gain.
-  const double colourTolerance = this->IntegrationMethod == PIECEWISE_ADAPTIVE ? avos::ColourShare *
-      this->Tolerance / std::max(1.0, internals.Shade ? internals.Shading.ColourGain() : 1.0)
-                                                                               : 0.0;
+  const double gain = internals.Shade ? std::max(1.0, internals.Shading.ColourGain()) : 1.0;
+  const double colourTolerance = this->IntegrationMethod == PIECEWISE_ADAPTIVE
+    ? avos::ColourShare * this->Tolerance / gain
+    : 0.0;
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime() ||
