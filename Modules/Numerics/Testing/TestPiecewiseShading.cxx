@@ -217,7 +217,7 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
     LitColour(model, colour, gradient, toViewer, lit);
     detail::LitApproximation<double> a;
     const double c = v0 + h / 2.0;
-    detail::Approximate(lit, c, x.Radius, 1.0, 0.0, a);
+    detail::Approximate(lit, x.Radius, 1.0, 0.0, a);
     for (int k = 0; k < 3; ++k)
     {
       quadratics += a.Quadratic[k] ? 1 : 0;

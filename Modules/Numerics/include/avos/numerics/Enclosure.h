@@ -355,11 +355,23 @@ Jet<Real> operator-(Real c, const Jet<Real>& a)
 
 namespace detail
 {
-template <typename Real>
-Bounds<Real> Scale(const Bounds<Real>& a, Real c)
+// Every enclosure of `a` through the linear map `f` (a product or quotient
+// by a constant other than 0), each end rounded outward.
+template <typename Real, typename F>
+Jet<Real> Linear(const Jet<Real>& a, F&& f)
 {
-  const Real x = a.Lo * c, y = a.Hi * c;
-  return Bounds<Real>::Outward(std::min(x, y), std::max(x, y));
+  auto image = [&f](const Bounds<Real>& b)
+  {
+    const Real x = f(b.Lo), y = f(b.Hi);
+    return Bounds<Real>::Outward(std::min(x, y), std::max(x, y));
+  };
+  Jet<Real> j = a;
+  j.V = image(a.V);
+  j.D1 = image(a.D1);
+  j.D2 = image(a.D2);
+  j.F = image(a.F);
+  j.F1 = image(a.F1);
+  return j;
 }
 } // namespace detail
 
@@ -370,13 +382,7 @@ Jet<Real> operator*(Real c, const Jet<Real>& a)
   {
     return Jet<Real>(Real(0)); // 0 f = 0, also where f's enclosures are infinite
   }
-  Jet<Real> j = a;
-  j.V = detail::Scale(a.V, c);
-  j.D1 = detail::Scale(a.D1, c);
-  j.D2 = detail::Scale(a.D2, c);
-  j.F = detail::Scale(a.F, c);
-  j.F1 = detail::Scale(a.F1, c);
-  return j;
+  return detail::Linear(a, [c](Real x) { return x * c; });
 }
 
 template <typename Real>
@@ -392,18 +398,7 @@ Jet<Real> operator/(const Jet<Real>& a, Real c)
   {
     return a / Jet<Real>(c); // the whole line, as the general division gives
   }
-  auto divide = [c](const Bounds<Real>& b)
-  {
-    const Real x = b.Lo / c, y = b.Hi / c;
-    return Bounds<Real>::Outward(std::min(x, y), std::max(x, y));
-  };
-  Jet<Real> j = a;
-  j.V = divide(a.V);
-  j.D1 = divide(a.D1);
-  j.D2 = divide(a.D2);
-  j.F = divide(a.F);
-  j.F1 = divide(a.F1);
-  return j;
+  return detail::Linear(a, [c](Real x) { return x / c; });
 }
 
 // g(a) by the chain rule: (g o a)' = g'(a) a', (g o a)'' = g''(a) a'^2 +

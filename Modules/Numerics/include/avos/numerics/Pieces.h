@@ -926,22 +926,59 @@ bool CellWalk(const VolumeT& volume, const glm::vec<3, Real>& origin,
   return true;
 }
 
+// A cell's trilinear interpolant in the form
+// f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz (cell frame [0, 1]^3), from
+// its corners c (x fastest).
+template <typename Real>
+struct TrilinearForm
+{
+  Real A, B, C, D, E, F, G, H;
+
+  explicit TrilinearForm(const Real c[8])
+    : A(c[0])
+    , B(c[1] - c[0])
+    , C(c[2] - c[0])
+    , D(c[4] - c[0])
+    , E(c[3] - c[2] - c[1] + c[0])
+    , F(c[5] - c[4] - c[1] + c[0])
+    , G(c[6] - c[4] - c[2] + c[0])
+    , H(c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0])
+  {
+  }
+
+  // The gradient at p, and along the line p + u d its coefficients of u and
+  // u^2 (each component is a quadratic in u).
+  glm::vec<3, Real> Gradient(const glm::vec<3, Real>& p) const
+  {
+    return { this->B + this->E * p.y + this->F * p.z + this->H * p.y * p.z,
+      this->C + this->E * p.x + this->G * p.z + this->H * p.x * p.z,
+      this->D + this->F * p.x + this->G * p.y + this->H * p.x * p.y };
+  }
+  glm::vec<3, Real> GradientSlope(const glm::vec<3, Real>& p, const glm::vec<3, Real>& d) const
+  {
+    return { this->E * d.y + this->F * d.z + this->H * (p.y * d.z + p.z * d.y),
+      this->E * d.x + this->G * d.z + this->H * (p.x * d.z + p.z * d.x),
+      this->F * d.x + this->G * d.y + this->H * (p.x * d.y + p.y * d.x) };
+  }
+  glm::vec<3, Real> GradientCurvature(const glm::vec<3, Real>& d) const
+  {
+    return { this->H * d.y * d.z, this->H * d.x * d.z, this->H * d.x * d.y };
+  }
+};
+
 // The trilinear interpolant of a cell's corners c (x fastest) along the ray
 // from e (the entry point, in the cell's frame [0, 1]^3) in direction d: a
-// cubic in the distance u from e, from the form
-// f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz.
+// cubic in the distance u from e (TrilinearForm).
 template <typename Real>
 Cubic<Real> CellCubic(const Real c[8], const glm::vec<3, Real>& e, const glm::vec<3, Real>& d)
 {
-  const Real A = c[0], B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
-  const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
-  const Real G = c[6] - c[4] - c[2] + c[0];
-  const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
+  const TrilinearForm<Real> f(c);
+  const Real A = f.A, B = f.B, C = f.C, D = f.D, E = f.E, F = f.F, G = f.G, H = f.H;
   const Real x = e.x, y = e.y, z = e.z;
+  const glm::vec<3, Real> gradient = f.Gradient(e);
   Cubic<Real> s;
   s.K[0] = A + B * x + C * y + D * z + E * x * y + F * x * z + G * y * z + H * x * y * z;
-  s.K[1] = d.x * (B + E * y + F * z + H * y * z) + d.y * (C + E * x + G * z + H * x * z) +
-    d.z * (D + F * x + G * y + H * x * y);
+  s.K[1] = d.x * gradient.x + d.y * gradient.y + d.z * gradient.z;
   s.K[2] = d.x * d.y * (E + H * z) + d.x * d.z * (F + H * y) + d.y * d.z * (G + H * x);
   s.K[3] = H * d.x * d.y * d.z;
   return s;

@@ -95,32 +95,18 @@ void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
   // The piece lies in one cell: the one holding its middle.
   const glm::vec<3, Real> middle = origin + (rp.Begin + rp.Length / Real(2)) * direction;
   int index[3];
+  Real fraction;
   for (int a = 0; a < 3; ++a)
   {
-    const Real f = std::floor(middle[a]);
-    const int last = volume.GetDimension(a) - 2;
-    index[a] = f >= Real(last) ? last : (f > Real(0) ? static_cast<int>(f) : 0);
+    LocateCell(middle[a], volume.GetDimension(a), index[a], fraction);
   }
   Real c[8];
   volume.GetCorners(index[0], index[1], index[2], c);
-  // f = A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz in the cell (CellCubic),
-  // at x = e + v d.
-  const Real B = c[1] - c[0], C = c[2] - c[0], D = c[4] - c[0];
-  const Real E = c[3] - c[2] - c[1] + c[0], F = c[5] - c[4] - c[1] + c[0];
-  const Real Gc = c[6] - c[4] - c[2] + c[0];
-  const Real H = c[7] - c[6] - c[5] - c[3] + c[4] + c[2] + c[1] - c[0];
+  const TrilinearForm<Real> f(c);
   const glm::vec<3, Real> e = origin + rp.Begin * direction -
     glm::vec<3, Real>(Real(index[0]), Real(index[1]), Real(index[2]));
-  const glm::vec<3, Real>& d = direction;
-  // df/dx = B + E y + F z + H y z, and so on, in powers of v.
-  const glm::vec<3, Real> grid[3] = {
-    { B + E * e.y + F * e.z + H * e.y * e.z, C + E * e.x + Gc * e.z + H * e.x * e.z,
-      D + F * e.x + Gc * e.y + H * e.x * e.y },
-    { E * d.y + F * d.z + H * (e.y * d.z + e.z * d.y),
-      E * d.x + Gc * d.z + H * (e.x * d.z + e.z * d.x),
-      F * d.x + Gc * d.y + H * (e.x * d.y + e.y * d.x) },
-    { H * d.y * d.z, H * d.x * d.z, H * d.x * d.y },
-  };
+  const glm::vec<3, Real> grid[3] = { f.Gradient(e), f.GradientSlope(e, direction),
+    f.GradientCurvature(direction) };
   for (int k = 0; k < 3; ++k)
   {
     const glm::vec<3, Real> world = normalMatrix * grid[k];
@@ -134,9 +120,9 @@ void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
 // The floor of a piece's sub-intervals, relative to its length: 2^-40.
 constexpr double ShadedFloor = 9.094947017729282e-13;
 
-// The lit colour's approximation on one sub-interval, per channel: the
-// constant Constant, or (Quadratic) F + F1 (v - Centre) + F2 (v - Centre)^2 / 2,
-// within Delta of L.
+// The lit colour's approximation on one sub-interval of centre c, per
+// channel: the constant Constant, or (Quadratic) F + F1 (v - c) + F2 (v - c)^2
+// / 2, within Delta of L.
 template <typename Real>
 struct LitApproximation
 {
@@ -144,18 +130,15 @@ struct LitApproximation
   Real Constant[3];
   Real F[3], F1[3], F2[3];
   Real Delta[3];
-  Real Centre;
 };
 
-// Fills `a` from the Jets of the lit colour over [v0, v1] (centre c, radius
-// r): per channel the constant unless its error times dT exceeds `limit` and
-// the quadratic's is smaller. True when every channel's delta dT is within
+// Fills `a` from the Jets of the lit colour over a sub-interval of radius r:
+// per channel the constant unless its error times dT exceeds `limit` and the
+// quadratic's is smaller. True when every channel's delta dT is within
 // `limit`.
 template <typename Real>
-bool Approximate(
-  const Jet<Real> lit[3], Real c, Real r, Real dT, Real limit, LitApproximation<Real>& a)
+bool Approximate(const Jet<Real> lit[3], Real r, Real dT, Real limit, LitApproximation<Real>& a)
 {
-  a.Centre = c;
   bool fits = true;
   for (int k = 0; k < 3; ++k)
   {
@@ -229,7 +212,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
 
     LitApproximation<Real> a;
     const Real c = v + width / Real(2);
-    bool fits = Approximate(lit, c, u.Radius, dT, share / Real(2), a);
+    bool fits = Approximate(lit, u.Radius, dT, share / Real(2), a);
     // The P' terms: T(v0) int P' e^{-dtheta}, per channel (0 for a constant).
     Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
     Real g[3][3], limits[3];
@@ -349,7 +332,8 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
       if (!detail::ShadedPiece(
             rp.Q, p, depth, rp.Length, El, T, G, shading, scale, inverseL, color, overdraft, stats))
       {
-        result.Error = detail::RefusedPieceError;
+        result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "
+                       "or a nearly vanishing gradient too close together)";
       }
       else if (overdraft > reserve)
       {
