@@ -47,9 +47,10 @@ namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
 
 // The property's shading coefficients and the renderer's switched-on lights
-// (directional: from the focal point towards the position, each light's
-// colours times its intensity), and the same as numbers in `key`; empty, or
-// why the frame cannot be shaded.
+// (in world space, each light's colours times its intensity; directional:
+// from the focal point towards the position; positional: the position, the
+// attenuation values and the spot's cone), and the same as numbers in `key`;
+// empty, or why the frame cannot be shaded.
 std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int blend,
   an::ShadingModel<double>& model, std::vector<double>& key)
 {
@@ -73,25 +74,34 @@ std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int bl
     {
       continue;
     }
-    if (light->GetPositional())
-    {
-      return "positional lights are not supported, only directional ones";
-    }
     double position[3], focal[3];
     light->GetTransformedPosition(position);
     light->GetTransformedFocalPoint(focal);
-    glm::dvec3 direction(position[0] - focal[0], position[1] - focal[1], position[2] - focal[2]);
-    const double length = glm::length(direction);
-    if (!(length > 0.0) || !std::isfinite(length))
+    const glm::dvec3 from(position[0], position[1], position[2]);
+    const glm::dvec3 towards = from - glm::dvec3(focal[0], focal[1], focal[2]);
+    const double length = glm::length(towards);
+    an::Light<double> l;
+    l.Positional = light->GetPositional() != 0;
+    l.Position = from;
+    l.ConeAngle = light->GetConeAngle();
+    l.Exponent = light->GetExponent();
+    const double* attenuation = light->GetAttenuationValues();
+    l.Attenuation = glm::dvec3(attenuation[0], attenuation[1], attenuation[2]);
+    if (length > 0.0 && std::isfinite(length))
+    {
+      l.Direction = towards / length;
+      l.Axis = -l.Direction;
+    }
+    else if (!l.Positional || l.IsSpot())
     {
       return "a light's position and focal point coincide";
     }
     const double intensity = light->GetIntensity();
     const double* diffuse = light->GetDiffuseColor();
     const double* specular = light->GetSpecularColor();
-    model.Lights.push_back(
-      { direction / length, intensity * glm::dvec3(diffuse[0], diffuse[1], diffuse[2]),
-        intensity * glm::dvec3(specular[0], specular[1], specular[2]) });
+    l.Diffuse = intensity * glm::dvec3(diffuse[0], diffuse[1], diffuse[2]);
+    l.Specular = intensity * glm::dvec3(specular[0], specular[1], specular[2]);
+    model.Lights.push_back(l);
   }
   const std::string invalid = model.Validate();
   if (!invalid.empty())
@@ -102,10 +112,12 @@ std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int bl
     model.TwoSided ? 1.0 : 0.0 };
   for (const auto& light : model.Lights)
   {
-    for (const glm::dvec3& v : { light.Direction, light.Diffuse, light.Specular })
+    for (const glm::dvec3& v : { light.Direction, light.Diffuse, light.Specular, light.Position,
+           light.Attenuation, light.Axis })
     {
       key.insert(key.end(), { v.x, v.y, v.z });
     }
+    key.insert(key.end(), { light.Positional ? 1.0 : 0.0, light.ConeAngle, light.Exponent });
   }
   return std::string();
 }
@@ -803,6 +815,10 @@ void vtkAdaptiveVolumeMapper::SetUpMethod()
       }
     }
     method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
+    for (int r = 0; r < 3; ++r)
+    {
+      method.GridToWorldOffset[r] = internals.GridToWorld->GetElement(r, 3);
+    }
   }
 }
 

@@ -67,12 +67,15 @@
  * range).
  *
  * Shading (the property's Shade, ambient, diffuse, specular and specular
- * power, the renderer's directional lights): the emission is lit as VTK's
- * mappers light a sample (Blinn-Phong), with the exact gradient of the
- * trilinear field at the sample, not VTK's precomputed, quantised normals;
- * the adaptive methods control the error of the lit integrand. The Riemann,
- * coupled, decoupled and reference methods shade; the piecewise method, the
- * projections and positional lights refuse it.
+ * power, the renderer's switched-on lights: directional, and positional with
+ * their attenuation and spot cone as VTK's GPU mapper applies them): the
+ * emission is lit as VTK's mappers light a sample (Blinn-Phong,
+ * avos/numerics/Shading.h), with the exact gradient of the trilinear field
+ * at the sample, not VTK's precomputed, quantised normals. The adaptive
+ * methods control the error of the lit integrand; the piecewise method
+ * proves it (avos/numerics/PiecewiseShading.h). The projections refuse
+ * shading, and so does a positional light whose constant attenuation is 0
+ * (unbounded at the light).
  *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
  * supported (an error says so and nothing is drawn): multi-component

@@ -107,7 +107,8 @@ an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method
   if (method.Shading)
   {
     return f(an::ShadedRayField<double, VolumeT>{ volume, start, direction, method.NormalMatrix,
-      ToViewer(method, direction), *method.Shading });
+      ToViewer(method, direction), *method.Shading,
+      method.GridToWorld * start + method.GridToWorldOffset, method.GridToWorld * direction });
   }
   return f(an::RayField<double, VolumeT>{ volume, start, direction });
 }
@@ -279,7 +280,8 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
       if (method.Shading)
       {
         const an::RayShading<double> shading{ method.Shading, method.NormalMatrix,
-          ToViewer(method, direction) };
+          ToViewer(method, direction), method.GridToWorld * origin + method.GridToWorldOffset,
+          method.GridToWorld * direction };
         result = an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
           segments.size(), *method.Pieces, method.Adaptive.Tolerance, shading, true, steps);
         return;

@@ -3,8 +3,9 @@
 // smooth piece of the ray (PieceWalk, the exact depth of PieceDepth), the
 // lit emission integrated by adaptive Gauss-Legendre (4 against 8 nodes,
 // 1e-14 per part) on parts where the depth grows by at most 1/4, each sample lit through
-// TrilinearVolume::Gradient and ShadingModel::Shade with the colour of TransferFunction::GetColor:
-// none of the piecewise method's enclosures, gradient polynomials or series.
+// TrilinearVolume::Gradient and ShadingModel::Shade with the colour of TransferFunction::GetColor
+// (at its world position gridToWorld x + offset): none of the piecewise method's enclosures,
+// gradient polynomials or series.
 #ifndef avos_numerics_ShadedOracle_h
 #define avos_numerics_ShadedOracle_h
 
@@ -24,7 +25,8 @@ template <typename VolumeT>
 glm::dvec4 ShadedRay(const VolumeT& volume, const avos::numerics::TransferFunction<double>& tf,
   const avos::numerics::PiecewiseTransferFunction<double>& pieces, const glm::dvec3& origin,
   const glm::dvec3& direction, double D, const avos::numerics::ShadingModel<double>& model,
-  const glm::dmat3& normalMatrix, const glm::dvec3& toViewer)
+  const glm::dmat3& normalMatrix, const glm::dvec3& toViewer,
+  const glm::dmat3& gridToWorld = glm::dmat3(1.0), const glm::dvec3& offset = glm::dvec3(0.0))
 {
   namespace an = avos::numerics;
   glm::dvec3 color(0.0);
@@ -54,8 +56,8 @@ glm::dvec4 ShadedRay(const VolumeT& volume, const avos::numerics::TransferFuncti
               const glm::dvec3 x = origin + (rp.Begin + v) * direction;
               const double d = rp.Q(v);
               const double tau = p.Tau + d * (p.TauSlope + d * (p.TauCurvature + d * p.TauCubic));
-              const glm::dvec3 lit =
-                model.Shade(tf.GetColor(volume(x)), normalMatrix * volume.Gradient(x), toViewer);
+              const glm::dvec3 lit = model.Shade(tf.GetColor(volume(x)),
+                normalMatrix * volume.Gradient(x), toViewer, gridToWorld * x + offset);
               return lit[c] * tau * T * std::exp(-depth(v));
             });
         }

@@ -2,7 +2,8 @@
 // independent oracle of ShadedOracle.h: every channel of every ray within the
 // tolerance, on the adversarial suite's volumes and transfer functions, lit
 // adversarially (specular power 128, one- and two-sided lighting, coloured
-// lights, an anisotropic grid), in both opacity models; a gradient vanishing
+// lights, an anisotropic grid, a point light inside the volume, a spot whose
+// cone's edge the rays cross), in both opacity models; a gradient vanishing
 // inside a cell; the lit colour's enclosures; and refusals.
 #include "avos/numerics/PiecewiseShading.h"
 
@@ -16,7 +17,6 @@
 #include <vector>
 
 using namespace avos::numerics;
-namespace an = avos::numerics;
 namespace an = avos::numerics;
 
 namespace
@@ -55,6 +55,44 @@ ShadingModel<double> Sharp()
   return m;
 }
 
+// Positional lights in a volume of dimensions `dims` (grid = world): a point
+// light inside it and a narrow spot aimed at its centre from outside, whose
+// cone's edge the rays cross (a jump of the lit colour).
+ShadingModel<double> Lamps(const int dims[3])
+{
+  const glm::dvec3 centre = 0.5 * glm::dvec3(dims[0] - 1, dims[1] - 1, dims[2] - 1);
+  ShadingModel<double> m;
+  m.SpecularPower = 32.0;
+  Light<double> bulb;
+  bulb.Positional = true;
+  bulb.Position = centre + glm::dvec3(0.31, -0.17, 0.23);
+  bulb.Attenuation = glm::dvec3(0.5, 0.1, 0.05);
+  bulb.Diffuse = glm::dvec3(1.0, 0.9, 0.7);
+  bulb.Specular = glm::dvec3(1.0);
+  m.Lights.push_back(bulb);
+  Light<double> spot = bulb;
+  spot.Position = centre + glm::dvec3(-0.7, 1.1, 1.6) * double(dims[0] + dims[1] + dims[2]);
+  spot.Axis = glm::normalize(centre - spot.Position);
+  spot.Attenuation = glm::dvec3(1.0, 0.0, 0.0);
+  spot.ConeAngle = 4.0;
+  spot.Exponent = 8.0;
+  spot.Diffuse = glm::dvec3(0.4, 0.6, 1.0);
+  m.Lights.push_back(spot);
+  return m;
+}
+
+enum class Lighting
+{
+  Headlight,
+  Sharp,
+  Lamps
+};
+
+const char* Name(Lighting l)
+{
+  return l == Lighting::Headlight ? "headlight" : l == Lighting::Sharp ? "sharp" : "lamps";
+}
+
 struct Outcome
 {
   double MaximumError = 0.0;
@@ -63,8 +101,8 @@ struct Outcome
 };
 
 // Rays of adversarial case `c` with `model` at `eps` against the oracle.
-Outcome Compare(const adversarial::Case& c, bool sharp, const glm::dmat3& normalMatrix, double eps,
-  OpacityModel opacity, int rays)
+Outcome Compare(const adversarial::Case& c, Lighting lighting, const glm::dmat3& normalMatrix,
+  double eps, OpacityModel opacity, int rays)
 {
   an::TransferFunction<double> tf = c.TF;
   tf.SetOpacityModel(opacity, 1.0);
@@ -78,8 +116,10 @@ Outcome Compare(const adversarial::Case& c, bool sharp, const glm::dmat3& normal
   {
     const adversarial::Ray ray = adversarial::MakeRay(c, static_cast<unsigned>(i));
     const glm::dvec3 toViewer = -ray.Direction;
-    const ShadingModel<double> model = sharp ? Sharp() : Headlight(toViewer);
-    const RayShading<double> shading{ &model, normalMatrix, toViewer };
+    const ShadingModel<double> model = lighting == Lighting::Sharp ? Sharp()
+      : lighting == Lighting::Lamps                                ? Lamps(c.Dimensions)
+                                                                   : Headlight(toViewer);
+    const RayShading<double> shading{ &model, normalMatrix, toViewer, ray.Origin, ray.Direction };
     const Interval<double> whole{ 0.0, ray.Length };
     // No early termination: the oracle integrates the whole ray.
     const RayResult<double> r = IntegratePiecewiseShaded(
@@ -88,7 +128,7 @@ Outcome Compare(const adversarial::Case& c, bool sharp, const glm::dmat3& normal
     const glm::dvec4 oracle = oracles::ShadedRay(
       volume, tf, exact, ray.Origin, ray.Direction, ray.Length, model, normalMatrix, toViewer);
     const double e = MaxError(r.RGBA, oracle);
-    EXPECT_LE(e, eps) << c.Name << ", ray " << i << (sharp ? ", sharp" : ", headlight");
+    EXPECT_LE(e, eps) << c.Name << ", ray " << i << ", " << Name(lighting);
     o.MaximumError = std::max(o.MaximumError, e);
     o.Samples += r.Statistics.Samples;
     o.Pieces += r.Statistics.Pieces;
@@ -107,12 +147,13 @@ TEST(PiecewiseShading, AdversarialSuiteWithinTheToleranceOfAnExactOracle)
   {
     for (double eps : { 1e-2, 1e-3 })
     {
-      for (bool sharp : { false, true })
+      for (Lighting lighting : { Lighting::Headlight, Lighting::Sharp, Lighting::Lamps })
       {
-        const Outcome o = Compare(c, sharp, sharp ? anisotropic : glm::dmat3(1.0), eps,
-          sharp ? OpacityModel::Alpha : OpacityModel::Extinction, 6);
+        const bool sharp = lighting == Lighting::Sharp;
+        const Outcome o = Compare(c, lighting, sharp ? anisotropic : glm::dmat3(1.0), eps,
+          lighting == Lighting::Headlight ? OpacityModel::Extinction : OpacityModel::Alpha, 6);
         std::printf("%-34s eps %g %-9s max error %.2e, %.1f samples per piece\n", c.Name.c_str(),
-          eps, sharp ? "sharp" : "headlight", o.MaximumError,
+          eps, Name(lighting), o.MaximumError,
           o.Pieces ? double(o.Samples) / double(o.Pieces) : 0.0);
       }
     }
@@ -190,12 +231,18 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
 {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const ShadingModel<double> models[2] = { Headlight(glm::dvec3(0.0, 0.0, 1.0)), Sharp() };
+  const int dims[3] = { 3, 3, 3 };
+  const ShadingModel<double> models[3] = { Headlight(glm::dvec3(0.0, 0.0, 1.0)), Sharp(),
+    Lamps(dims) };
   const glm::dvec3 toViewer = glm::normalize(glm::dvec3(0.2, 0.1, 1.0));
   long quadratics = 0;
-  for (int trial = 0; trial < 2000; ++trial)
+  for (int trial = 0; trial < 3000; ++trial)
   {
-    const ShadingModel<double>& model = models[trial % 2];
+    const ShadingModel<double>& model = models[trial % 3];
+    // The sample's world position: a line through the lamps' volume (the
+    // point light at distance 0.1 .. 1 of it, the spot's cone crossed).
+    const glm::dvec3 p0 = glm::dvec3(1.0) + glm::dvec3(u(rng), u(rng), u(rng));
+    const glm::dvec3 dir = glm::dvec3(u(rng), u(rng), u(rng));
     double G[3][3], C[3][2];
     for (int a = 0; a < 3; ++a)
     {
@@ -208,13 +255,14 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
     }
     const double v0 = u(rng), h = std::pow(10.0, -3.0 * (u(rng) + 1.0)); // 1e-6 .. 1
     const Jet<double> x = Jet<double>::Variable(Bounds<double>(v0, v0 + h));
-    Jet<double> colour[3], gradient[3], lit[3];
+    Jet<double> colour[3], gradient[3], position[3], lit[3];
     for (int a = 0; a < 3; ++a)
     {
       colour[a] = C[a][0] + C[a][1] * x;
       gradient[a] = G[a][0] + x * (G[a][1] + x * G[a][2]);
+      position[a] = p0[a] + x * dir[a];
     }
-    LitColour(model, colour, gradient, toViewer, lit);
+    LitColour(model, colour, gradient, toViewer, position, lit);
     detail::LitApproximation<double> a;
     const double c = v0 + h / 2.0;
     detail::Approximate(lit, x.Radius, 1.0, 0.0, a);
@@ -225,13 +273,14 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
     for (int i = 0; i <= 16; ++i)
     {
       const double v = v0 + h * i / 16.0;
-      double col[3], grad[3], value[3];
+      double col[3], grad[3], pos[3], value[3];
       for (int k = 0; k < 3; ++k)
       {
         col[k] = C[k][0] + C[k][1] * v;
         grad[k] = G[k][0] + v * (G[k][1] + v * G[k][2]);
+        pos[k] = p0[k] + v * dir[k];
       }
-      LitColour(model, col, grad, toViewer, value);
+      LitColour(model, col, grad, toViewer, pos, value);
       for (int k = 0; k < 3; ++k)
       {
         ASSERT_TRUE(lit[k].V.Contains(value[k])) << "trial " << trial << ", channel " << k;
@@ -242,7 +291,7 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
       }
     }
   }
-  EXPECT_GT(quadratics, 1000) << "the quadratics are tested, not only the constants";
+  EXPECT_GT(quadratics, 1500) << "the quadratics are tested, not only the constants";
 }
 
 TEST(PiecewiseShading, BadInput)

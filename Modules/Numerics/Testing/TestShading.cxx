@@ -70,33 +70,103 @@ TEST(Shading, BlinnPhongTermByTerm)
   model.Lights.push_back({ up, glm::dvec3(1.0), glm::dvec3(1.0) });
   ASSERT_EQ(model.Validate(), "");
   const glm::dvec3 c(0.4, 0.6, 0.8);
+  const glm::dvec3 origin(0.0); // directional lights do not read the position
 
   // No gradient, no normal: ambient only.
-  EXPECT_LT(glm::length(model.Shade(c, glm::dvec3(0.0), up) - 0.2 * c), 1e-15);
+  EXPECT_LT(glm::length(model.Shade(c, glm::dvec3(0.0), up, origin) - 0.2 * c), 1e-15);
   // Normal, light and viewer aligned: every term at its full weight.
-  const glm::dvec3 full = model.Shade(c, 3.0 * up, up);
+  const glm::dvec3 full = model.Shade(c, 3.0 * up, up, origin);
   EXPECT_LT(glm::length(full - glm::clamp(0.7 * c + 0.3, 0.0, 1.0)), 1e-15);
   // Light at 60 degrees from the normal, viewer along the normal: n.l = 1/2,
   // n.h = cos 30 degrees.
   const double a = M_PI / 3;
   model.Lights[0].Direction = glm::dvec3(std::sin(a), 0, std::cos(a));
-  const glm::dvec3 tilted = model.Shade(c, up, up);
+  const glm::dvec3 tilted = model.Shade(c, up, up, origin);
   const double nh = std::cos(a / 2);
   EXPECT_LT(glm::length(tilted - (0.2 * c + 0.5 * 0.5 * c + 0.3 * std::pow(nh, 4.0))), 1e-14);
   // A normal facing away: one-sided lighting leaves the ambient term,
   // two-sided lighting lights it as if it faced the light.
-  EXPECT_LT(glm::length(model.Shade(c, -up, up) - 0.2 * c), 1e-15);
+  EXPECT_LT(glm::length(model.Shade(c, -up, up, origin) - 0.2 * c), 1e-15);
   model.TwoSided = true;
-  EXPECT_LT(glm::length(model.Shade(c, -up, up) - tilted), 1e-14);
+  EXPECT_LT(glm::length(model.Shade(c, -up, up, origin) - tilted), 1e-14);
   // Bright lights saturate at 1 per channel.
   model.Lights[0].Diffuse = glm::dvec3(10.0);
-  EXPECT_EQ(model.Shade(c, up, up), glm::dvec3(1.0));
+  EXPECT_EQ(model.Shade(c, up, up, origin), glm::dvec3(1.0));
 
   ShadingModel<double> bad = model;
   bad.SpecularPower = -1;
   EXPECT_NE(bad.Validate(), "");
   bad = model;
   bad.Lights[0].Direction = glm::dvec3(0, 0, 2);
+  EXPECT_NE(bad.Validate(), "");
+}
+
+// A point light and a spot (vtkLight's PositionalOn, ConeAngle < 90): the
+// direction towards the light, the attenuation and the cone, term by term.
+TEST(Shading, PositionalAndSpotLightsTermByTerm)
+{
+  ShadingModel<double> model;
+  model.Ambient = 0.2;
+  model.Diffuse = 0.5;
+  model.Specular = 0.3;
+  model.SpecularPower = 4.0;
+  const glm::dvec3 up(0, 0, 1), c(0.4, 0.6, 0.8), origin(0.0);
+  Light<double> bulb;
+  bulb.Positional = true;
+  bulb.Position = glm::dvec3(0, 0, 5);
+  bulb.Attenuation = glm::dvec3(1.0, 0.1, 0.02); // 1 / (1 + 0.5 + 0.5) at d = 5
+  bulb.Diffuse = bulb.Specular = glm::dvec3(1.0);
+  model.Lights.push_back(bulb);
+  ASSERT_EQ(model.Validate(), "");
+  EXPECT_TRUE(model.HasPositionalLights());
+  EXPECT_DOUBLE_EQ(model.ColourGain(), 0.2 + 0.5 * 1.0);
+  // Light straight above, viewer along the normal: n.l = n.h = 1, A = 1/2.
+  EXPECT_LT(glm::length(model.Shade(c, up, up, origin) - (0.2 * c + 0.25 * c + 0.15)), 1e-15);
+  // At x = (5, 0, 0): l = (-1, 0, 1) / sqrt 2, d = 5 sqrt 2.
+  const glm::dvec3 x(5, 0, 0);
+  const double d = 5.0 * std::sqrt(2.0), A = 1.0 / (1.0 + 0.1 * d + 0.02 * d * d);
+  const glm::dvec3 l = glm::normalize(bulb.Position - x), h = glm::normalize(l + up);
+  EXPECT_LT(glm::length(model.Shade(c, up, up, x) -
+              (0.2 * c + 0.5 * A * l.z * c + 0.3 * A * std::pow(h.z, 4.0))),
+    1e-15);
+  // At the light itself there is no direction: ambient only.
+  EXPECT_LT(glm::length(model.Shade(c, up, up, bulb.Position) - 0.2 * c), 1e-15);
+
+  // A spot aimed straight down, cone 30 degrees, exponent 2: inside at x =
+  // (2, 0, 0) (21.8 degrees off its axis), outside at (3, 0, 0) (31.0).
+  model.Lights[0].ConeAngle = 30.0;
+  model.Lights[0].Exponent = 2.0;
+  model.Lights[0].Axis = -up;
+  ASSERT_EQ(model.Validate(), "");
+  const glm::dvec3 inside(2, 0, 0), outside(3, 0, 0);
+  const glm::dvec3 li = glm::normalize(bulb.Position - inside), hi = glm::normalize(li + up);
+  const double di = glm::length(bulb.Position - inside);
+  const double Ai = li.z * li.z / (1.0 + 0.1 * di + 0.02 * di * di);
+  EXPECT_LT(glm::length(model.Shade(c, up, up, inside) -
+              (0.2 * c + 0.5 * Ai * li.z * c + 0.3 * Ai * std::pow(hi.z, 4.0))),
+    1e-15);
+  EXPECT_LT(glm::length(model.Shade(c, up, up, outside) - 0.2 * c), 1e-15);
+  // A cone of 90 degrees or more is no spot (vtkLight): the point light.
+  model.Lights[0].ConeAngle = 90.0;
+  const glm::dvec3 lo = glm::normalize(bulb.Position - outside), ho = glm::normalize(lo + up);
+  const double dout = glm::length(bulb.Position - outside);
+  const double Ao = 1.0 / (1.0 + 0.1 * dout + 0.02 * dout * dout);
+  EXPECT_LT(glm::length(model.Shade(c, up, up, outside) -
+              (0.2 * c + 0.5 * Ao * lo.z * c + 0.3 * Ao * std::pow(ho.z, 4.0))),
+    1e-15);
+
+  ShadingModel<double> bad = model;
+  bad.Lights[0].Attenuation = glm::dvec3(0.0, 0.0, 1.0);
+  EXPECT_NE(bad.Validate().find("attenuation"), std::string::npos);
+  bad = model;
+  bad.Lights[0].ConeAngle = 30.0;
+  bad.Lights[0].Axis = glm::dvec3(0.0);
+  EXPECT_NE(bad.Validate().find("spot"), std::string::npos);
+  bad.Lights[0].Axis = -up;
+  bad.Lights[0].Exponent = -1.0;
+  EXPECT_NE(bad.Validate().find("spot"), std::string::npos);
+  bad = model;
+  bad.Lights[0].Position.x = std::nan("");
   EXPECT_NE(bad.Validate(), "");
 }
 
@@ -140,14 +210,14 @@ TEST(Shading, ShadedIntegralOfALinearFieldMatchesItsClosedForm)
   const glm::dvec3 start = origin + t0 * direction;
   const glm::dmat3 normalMatrix(1.0); // world = grid here
   const ShadedRayField<double, TrilinearVolume<double, double>> shaded{ volume, start, direction,
-    normalMatrix, -direction, model };
+    normalMatrix, -direction, model, start, direction };
 
   // The oracle: the colour knots lit by the constant gradient.
   TransferFunction<double> lit;
   for (const auto& k : knots)
   {
     const glm::dvec3 c =
-      model.Shade(glm::dvec3(k[1], k[2], k[3]), volume.Gradient(start), -direction);
+      model.Shade(glm::dvec3(k[1], k[2], k[3]), volume.Gradient(start), -direction, start);
     ASSERT_LT(std::max({ c.r, c.g, c.b }), 1.0) << "no clamping: the lit colours stay linear";
     lit.AddColorKnot(k[0], c.r, c.g, c.b);
     lit.AddOpacityKnot(k[0], k[4]);

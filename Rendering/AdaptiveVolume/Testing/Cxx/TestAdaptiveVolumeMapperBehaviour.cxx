@@ -564,7 +564,8 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
     "isosurface blend", "composite, maximum, minimum and average intensity, and additive are");
   scene.Mapper->SetBlendModeToComposite();
   // Shading with the piecewise method is drawn; where it cannot be
-  // honoured (a projection, a positional light) it is refused.
+  // honoured (a projection, a light without a bounded attenuation) it is
+  // refused.
   scene.Property->ShadeOn();
   const int method = scene.Mapper->GetIntegrationMethod();
   scene.Mapper->SetIntegrationMethodToPiecewiseAdaptive();
@@ -576,8 +577,9 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Mapper->SetBlendModeToComposite();
   vtkNew<vtkLight> lamp;
   lamp->SetPositional(true);
+  lamp->SetAttenuationValues(0.0, 0.0, 1.0);
   scene.Renderer->AddLight(lamp);
-  expectError("positional light", "positional lights are not supported");
+  expectError("unbounded attenuation", "the constant one > 0");
   scene.Renderer->RemoveLight(lamp);
   scene.Property->ShadeOff();
   scene.Property->UseClippedVoxelIntensityOn();

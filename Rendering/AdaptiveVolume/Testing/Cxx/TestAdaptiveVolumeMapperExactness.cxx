@@ -158,8 +158,8 @@ int TestAdaptiveVolumeMapperExactness(int, char*[])
   avos::numerics::TransferFunction<double> lit;
   for (const auto& k : Knots)
   {
-    const glm::dvec3 c =
-      model.Shade(glm::dvec3(k[1], k[2], k[3]), glm::dvec3(0.0, 0.0, 1.0), toViewer);
+    const glm::dvec3 c = model.Shade(
+      glm::dvec3(k[1], k[2], k[3]), glm::dvec3(0.0, 0.0, 1.0), toViewer, glm::dvec3(0.0));
     if (std::max({ c.r, c.g, c.b }) >= 1.0)
     {
       std::cerr << "FAIL the lit colours must stay below 1 (no clamping)\n";

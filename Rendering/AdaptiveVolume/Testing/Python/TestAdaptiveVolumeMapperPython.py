@@ -4,15 +4,18 @@ with the reference within the tolerance on every pixel; a bad tolerance is
 reported and renders nothing. The piecewise method agrees with the
 reference within its tolerance, with fewer samples than the paper's coupled
 rule at the same tolerance, and reports its cells and pieces. Clipping
-planes and cropping cut the image, and moving a plane recasts it; shading
-is refused, not ignored. Nearest interpolation and cell scalars render
+planes and cropping cut the image, and moving a plane recasts it; shaded,
+under the headlight or positional lights and spots, the piecewise method
+agrees with the shaded reference, and the image does not change when the
+scene moves rigidly. Nearest interpolation and cell scalars render
 their own fields, each within 3/255 (mean) of VTK's GPU mapper's image."""
 
 import avos
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonCore import vtkCommand
-from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
-                                         vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkLight, vtkLightKit,
+                                         vtkRenderWindow, vtkRenderer, vtkVolume,
+                                         vtkVolumeProperty, vtkWindowToImageFilter)
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction, vtkPlane
 from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
@@ -43,8 +46,10 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         volume = vtkVolume()
         volume.SetMapper(self.mapper)
         volume.SetProperty(prop)
+        self.volume = volume
         renderer = vtkRenderer()
         renderer.AddVolume(volume)
+        self.renderer = renderer
         self.window = vtkRenderWindow()
         self.window.SetOffScreenRendering(1)
         self.window.SetSize(40, 30)
@@ -212,6 +217,103 @@ class TestAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.assertEqual(len(piecewise), len(reference))
         self.assertLess(max(abs(a - b) for a, b in zip(piecewise, reference)), 1e-3 + 1e-5)
         self.assertGreater(max(abs(a - b) for a, b in zip(piecewise[0::4], unlit[0::4])), 0.02)
+
+    def test_positional_lights(self):
+        # A point light beside the volume and a narrow spot whose cone's edge
+        # crosses it (scene lights): the piecewise method within its eps of
+        # the shaded reference; the scene moved rigidly (volume, lights and
+        # camera) draws the same image, so that the lights are placed in
+        # world space; a point light far away along a direction draws the
+        # directional light's image.
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.prop.ShadeOn()
+        bounds = self.mapper.GetBounds()
+        centre = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+        bulb = vtkLight()
+        bulb.SetLightTypeToSceneLight()
+        bulb.SetPositional(True)
+        bulb.SetPosition(centre[0] + 20.0, centre[1] + 8.0, centre[2] + 25.0)
+        bulb.SetFocalPoint(centre)
+        bulb.SetAttenuationValues(0.5, 0.02, 0.001)
+        spot = vtkLight()
+        spot.SetLightTypeToSceneLight()
+        spot.SetPositional(True)
+        spot.SetPosition(centre[0] - 30.0, centre[1] + 40.0, centre[2] + 60.0)
+        spot.SetFocalPoint(centre)
+        spot.SetConeAngle(8.0)
+        spot.SetExponent(4.0)
+        spot.SetDiffuseColor(0.3, 0.5, 1.0)
+        self.renderer.AddLight(bulb)
+        self.renderer.AddLight(spot)
+        self.mapper.SetIntegrationMethodToReference()
+        reference = self.render()
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        self.mapper.SetTolerance(1e-3)
+        piecewise = self.render()
+        self.assertEqual(errors, [])
+        self.assertEqual(len(piecewise), len(reference))
+        self.assertLess(max(abs(a - b) for a, b in zip(piecewise, reference)), 1e-3 + 1e-5)
+        spot.SwitchOff()
+        self.assertGreater(max(abs(a - b) for a, b in zip(self.render(), piecewise)), 0.01)
+        spot.SwitchOn()
+
+        shift = (7.0, -3.0, 11.0)
+        moved = lambda p: [p[i] + shift[i] for i in range(3)]
+        camera = self.renderer.GetActiveCamera()
+        self.volume.SetPosition(shift)
+        for thing in (bulb, spot, camera):
+            thing.SetPosition(moved(thing.GetPosition()))
+            thing.SetFocalPoint(moved(thing.GetFocalPoint()))
+        self.renderer.ResetCameraClippingRange()
+        self.assertLess(max(abs(a - b) for a, b in zip(self.render(), piecewise)), 1e-6)
+        self.assertEqual(errors, [])
+
+        self.renderer.RemoveAllLights()
+        towards = [0.3, 0.5, 0.8]
+        sun = vtkLight()
+        sun.SetLightTypeToSceneLight()
+        sun.SetPosition(towards)
+        sun.SetFocalPoint(0.0, 0.0, 0.0)
+        self.renderer.AddLight(sun)
+        directional = self.render()
+        far = vtkLight()
+        far.SetLightTypeToSceneLight()
+        far.SetPositional(True)
+        far.SetPosition([c + 1e7 * t for c, t in zip(moved(centre), towards)])
+        self.renderer.RemoveAllLights()
+        self.renderer.AddLight(far)
+        self.assertLess(max(abs(a - b) for a, b in zip(self.render(), directional)), 2e-3)
+        self.assertEqual(errors, [])
+
+    def test_light_kit(self):
+        # vtkLightKit's key, fill, two back and head lights (camera lights):
+        # the piecewise method within its eps of the shaded reference, and
+        # each light counts (the key light alone draws another image).
+        errors = []
+        self.mapper.AddObserver(vtkCommand.ErrorEvent,
+                                lambda caller, event: errors.append(event))
+        self.prop.ShadeOn()
+        kit = vtkLightKit()
+        kit.AddLightsToRenderer(self.renderer)
+        self.assertEqual(self.renderer.GetLights().GetNumberOfItems(), 5)
+        self.mapper.SetIntegrationMethodToReference()
+        reference = self.render()
+        self.mapper.SetIntegrationMethodToPiecewiseAdaptive()
+        self.mapper.SetTolerance(1e-3)
+        piecewise = self.render()
+        self.assertEqual(errors, [])
+        self.assertLess(max(abs(a - b) for a, b in zip(piecewise, reference)), 1e-3 + 1e-5)
+        self.renderer.RemoveAllLights()
+        key = vtkLightKit()
+        key.SetFillLightWarmth(0.5)
+        key.SetKeyToFillRatio(1e6)
+        key.SetKeyToHeadRatio(1e6)
+        key.SetKeyToBackRatio(1e6)
+        key.AddLightsToRenderer(self.renderer)
+        self.assertGreater(max(abs(a - b) for a, b in zip(self.render(), piecewise)), 0.01)
+        self.assertEqual(errors, [])
 
     def test_nearest_interpolation_and_cell_scalars(self):
         # VTK's default interpolation (nearest) and cell scalars render, each

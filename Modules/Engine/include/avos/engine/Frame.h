@@ -123,10 +123,11 @@ struct FrameMethod
   PieceKernels Kernels;
   const PiecewiseTable* PieceTable = nullptr;
   // Gradient shading of the emission (null: none), with the grid-to-world
-  // matrix's linear part (ray directions to world) and the normal matrix
-  // (grid gradients to world).
+  // map (x_world = GridToWorld x_grid + GridToWorldOffset: ray directions
+  // and positional lights) and the normal matrix (grid gradients to world).
   const numerics::ShadingModel<double>* Shading = nullptr;
   glm::dmat3 GridToWorld{ 1.0 };
+  glm::dvec3 GridToWorldOffset{ 0.0 };
   glm::dmat3 NormalMatrix{ 1.0 };
   // The average projection's range, and the data's range, to which the
   // projections normalise the scalar.

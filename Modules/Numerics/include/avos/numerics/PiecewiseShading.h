@@ -48,7 +48,8 @@
 // (the ray reports an error). A smooth L needs few: delta2 shrinks as h^3.
 // A kink of L (n.l or n.h changing sign, the clamp switching) makes its
 // sub-interval Rough, whose delta0 shrinks as h: about log2(L' / eps)
-// halvings around each kink.
+// halvings around each kink. A spot's cone edge is a jump of L: its
+// sub-interval halves until its dT fits, at most to the floor (41 halvings).
 //
 // A sample is one evaluation of the lit colour's enclosure.
 #ifndef avos_numerics_PiecewiseShading_h
@@ -72,14 +73,18 @@ namespace numerics
 {
 
 // The shading of one ray: the model, the normal matrix that maps a gradient
-// in the volume's grid coordinates to world space, and the unit direction
-// towards the viewer (constant along the ray).
+// in the volume's grid coordinates to world space, the unit direction
+// towards the viewer (constant along the ray), and the ray in world space
+// (the sample at t is at WorldOrigin + t WorldDirection; positional lights
+// read it).
 template <typename Real>
 struct RayShading
 {
   const ShadingModel<Real>* Model = nullptr;
   glm::mat<3, 3, Real> NormalMatrix{ Real(1) };
   glm::vec<3, Real> ToViewer{ Real(0), Real(0), Real(1) };
+  glm::vec<3, Real> WorldOrigin{ Real(0) };
+  glm::vec<3, Real> WorldDirection{ Real(0) };
 };
 
 namespace detail
@@ -169,17 +174,18 @@ bool Approximate(const Jet<Real> lit[3], Real r, Real dT, Real limit, LitApproxi
 }
 
 // int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
-// e^{-theta(l)} = El, transmittance Ta in front, world gradient G), added
-// to `color`; see above. `scale` turns (dT + h / L) into a share, `inverseL`
-// is 1 / L; what floor sub-intervals exceed their share by is added to
-// `overdraft`. False when the piece is refused (MaximumSubintervals).
+// e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
+// position `start` at v = 0), added to `color`; see above. `scale` turns (dT + h / L) into a share,
+// `inverseL` is 1 / L; what floor sub-intervals exceed their share by is added to `overdraft`.
+// False when the piece is refused (MaximumSubintervals).
 template <typename Real>
 bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
-  const RayShading<Real>& shading, Real scale, Real inverseL, glm::vec<3, Real>& color,
-  Real& overdraft, RayStatistics<Real>& stats)
+  const glm::vec<3, Real>& start, const RayShading<Real>& shading, Real scale, Real inverseL,
+  glm::vec<3, Real>& color, Real& overdraft, RayStatistics<Real>& stats)
 {
   using JetR = Jet<Real>;
+  const bool positional = shading.Model->HasPositionalLights();
   const Real floor = l * Real(ShadedFloor);
   Real v = Real(0), h = l, Ev = Real(1);
   for (long count = 0; v < l && Ev > Real(0); ++count)
@@ -207,7 +213,15 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
         ? JetR(Real(0))
         : G[k][0] + u * (G[k][1] + u * G[k][2]);
     }
-    LitColour(*shading.Model, colour, gradient, shading.ToViewer, lit);
+    JetR position[3];
+    if (positional)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        position[k] = start[k] + u * shading.WorldDirection[k];
+      }
+    }
+    LitColour(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
     ++stats.Samples;
 
     LitApproximation<Real> a;
@@ -329,8 +343,9 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
     {
       Real G[3][3];
       detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
-      if (!detail::ShadedPiece(
-            rp.Q, p, depth, rp.Length, El, T, G, shading, scale, inverseL, color, overdraft, stats))
+      const glm::vec<3, Real> start = shading.WorldOrigin + rp.Begin * shading.WorldDirection;
+      if (!detail::ShadedPiece(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale, inverseL,
+            color, overdraft, stats))
       {
         result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "
                        "or a nearly vanishing gradient too close together)";

@@ -1,16 +1,24 @@
 // Gradient shading of the emission, as VTK's volume mappers light a sample
 // (Blinn-Phong with the property's ambient, diffuse, specular and specular
-// power, directional lights):
+// power, the renderer's lights):
 //
-//   C'(x) = clamp(C(s) (ka + kd sum_l D_l max(0, n.l)) + ks sum_l S_l max(0, n.h_l)^p, 0, 1)
+//   C'(x) = clamp(C(s) (ka + kd sum_l A_l D_l f(n.l)) + ks sum_l A_l S_l f(n.h_l)^p, 0, 1)
 //
 // per RGB channel, n the unit gradient of the scalar field at x (world
-// space), l the unit direction towards light l, h_l = normalize(l + v), v the
-// unit direction towards the viewer, D_l and S_l the light's diffuse and
-// specular colours times its intensity. Two-sided lighting (VTK's default)
-// takes |n.l| and |n.h|. Where the gradient vanishes there is no normal: the
-// sample is lit by the ambient term only. The emission in the volume
-// rendering integral becomes tau(s) C'(x): the optical depth is unchanged.
+// space), l the unit direction from x towards light l, h_l = normalize(l +
+// v), v the unit direction towards the viewer, D_l and S_l the light's
+// diffuse and specular colours times its intensity, f(c) = |c| with two-sided
+// lighting (VTK's default), max(0, c) otherwise. A directional light has one
+// l everywhere and A_l = 1. A positional light at P (vtkLight's
+// PositionalOn) has l = (P - x) / d, d = |P - x|, and the attenuation A_l =
+// 1 / (a0 + a1 d + a2 d^2) of its attenuation values; a spot (its cone angle
+// below 90 degrees, as vtkLight documents: 90 or more is a positional light
+// without a cone) multiplies A_l by (-l.a)^e inside its cone (-l.a >= cos of
+// the cone angle, a the unit axis from P towards the light's focal point, e
+// its exponent) and by 0 outside, as VTK's GPU mapper does. Where the
+// gradient vanishes there is no normal: the sample is lit by the ambient
+// term only. The emission in the volume rendering integral becomes tau(s)
+// C'(x): the optical depth is unchanged.
 //
 // The gradient is that of the trilinear interpolant, exact (a polynomial in
 // the cell; TrilinearVolume::Gradient), not central differences of the grid
@@ -18,10 +26,10 @@
 // The clamp keeps every channel of a ray in [0, 1] and keeps the integrators'
 // early-termination bound (which assumes a colour of at most max(1, max C))
 // valid. The shaded integrand is smooth except where the gradient vanishes,
-// changes cell, or a max(0, .) or the clamp switches: the adaptive rules
-// control its error as they do the unshaded one's (by Simpson's estimate),
-// the piecewise method proves it (PiecewiseShading.h, with LitColour on
-// Jets).
+// changes cell, a spot's cone is crossed, or a max(0, .) or the clamp
+// switches: the adaptive rules control its error as they do the unshaded
+// one's (by Simpson's estimate), the piecewise method proves it
+// (PiecewiseShading.h, with LitColour on Jets).
 #ifndef avos_numerics_Shading_h
 #define avos_numerics_Shading_h
 
@@ -40,13 +48,32 @@ namespace avos
 namespace numerics
 {
 
+// A light in world space, as vtkLight describes it.
 template <typename Real>
-struct DirectionalLight
+struct Light
 {
   using Vector = glm::vec<3, Real>;
-  Vector Direction; // unit, from the scene towards the light, world space
+  Vector Direction; // directional: unit, from the scene towards the light
   Vector Diffuse;   // colour times intensity
   Vector Specular;  // colour times intensity
+  bool Positional = false;
+  // Positional: the light's position, its attenuation values (a0, a1, a2),
+  // and, for a spot (ConeAngle < 90 degrees), the unit axis from the
+  // position towards the focal point and the exponent.
+  Vector Position{ Real(0) };
+  Vector Attenuation{ Real(1), Real(0), Real(0) };
+  Real ConeAngle = Real(180);
+  Real Exponent = Real(1);
+  Vector Axis{ Real(0), Real(0), Real(-1) };
+
+  bool IsSpot() const { return this->Positional && this->ConeAngle < Real(90); }
+
+  // The largest attenuation A_l anywhere: 1, or 1 / a0 (the spot's factor
+  // is at most 1).
+  Real MaximumAttenuation() const
+  {
+    return this->Positional ? Real(1) / this->Attenuation[0] : Real(1);
+  }
 };
 
 template <typename Real>
@@ -59,7 +86,7 @@ struct ShadingModel
   Real Specular = Real(0.2);
   Real SpecularPower = Real(10);
   bool TwoSided = true;
-  std::vector<DirectionalLight<Real>> Lights;
+  std::vector<Light<Real>> Lights;
 
   // Empty, or why the model cannot be used.
   std::string Validate() const
@@ -71,10 +98,17 @@ struct ShadingModel
         return "the shading coefficients and the specular power must be finite and >= 0";
       }
     }
-    for (const DirectionalLight<Real>& light : this->Lights)
+    for (const Light<Real>& light : this->Lights)
     {
-      const Real length = glm::length(light.Direction);
-      if (!(std::abs(length - Real(1)) < Real(1e-6)))
+      if (light.Positional)
+      {
+        const std::string invalid = ValidatePositional(light);
+        if (!invalid.empty())
+        {
+          return invalid;
+        }
+      }
+      else if (!(std::abs(glm::length(light.Direction) - Real(1)) < Real(1e-6)))
       {
         return "a light's direction must be a unit vector";
       }
@@ -90,34 +124,69 @@ struct ShadingModel
     return std::string();
   }
 
+  bool HasPositionalLights() const
+  {
+    return std::any_of(this->Lights.begin(), this->Lights.end(),
+      [](const Light<Real>& light) { return light.Positional; });
+  }
+
   // The most a channel of the lit colour changes per unit change of the
-  // sample's colour: ka + kd max_c sum_l D_l,c (the clamp does not enlarge
-  // it), so a colour within delta of the transfer function's is lit within
-  // ColourGain() delta.
+  // sample's colour: ka + kd max_c sum_l max A_l D_l,c (the clamp does not
+  // enlarge it), so a colour within delta of the transfer function's is lit
+  // within ColourGain() delta.
   Real ColourGain() const
   {
     Real gain = Real(0);
     for (int c = 0; c < 3; ++c)
     {
       Real sum = Real(0);
-      for (const DirectionalLight<Real>& light : this->Lights)
+      for (const Light<Real>& light : this->Lights)
       {
-        sum += light.Diffuse[c];
+        sum += light.MaximumAttenuation() * light.Diffuse[c];
       }
       gain = std::max(gain, sum);
     }
     return this->Ambient + this->Diffuse * gain;
   }
 
-  // The lit colour of a sample of colour `color` whose world-space gradient is
-  // `gradient`, seen from the unit direction `toViewer`.
-  Vector Shade(const Vector& color, const Vector& gradient, const Vector& toViewer) const
+  // The lit colour of a sample at world position `position` of colour
+  // `color` whose world-space gradient is `gradient`, seen from the unit
+  // direction `toViewer`.
+  Vector Shade(const Vector& color, const Vector& gradient, const Vector& toViewer,
+    const Vector& position) const
   {
     const Real c[3] = { color.r, color.g, color.b };
     const Real g[3] = { gradient.x, gradient.y, gradient.z };
+    const Real x[3] = { position.x, position.y, position.z };
     Real lit[3];
-    LitColour(*this, c, g, toViewer, lit);
+    LitColour(*this, c, g, toViewer, x, lit);
     return Vector(lit[0], lit[1], lit[2]);
+  }
+
+private:
+  static std::string ValidatePositional(const Light<Real>& light)
+  {
+    const Vector& a = light.Attenuation;
+    if (!(a[0] > Real(0)) || !(a[1] >= Real(0)) || !(a[2] >= Real(0)) || !std::isfinite(a[0]) ||
+      !std::isfinite(a[1]) || !std::isfinite(a[2]))
+    {
+      return "a positional light's attenuation values must be finite and >= 0, the constant one "
+             "> 0 (1 / (a0 + a1 d + a2 d^2) is unbounded at the light otherwise)";
+    }
+    if (!std::isfinite(light.Position.x) || !std::isfinite(light.Position.y) ||
+      !std::isfinite(light.Position.z))
+    {
+      return "a positional light's position must be finite";
+    }
+    if (light.IsSpot() &&
+      (!(light.ConeAngle > Real(0)) || !(light.Exponent >= Real(0)) ||
+        !std::isfinite(light.Exponent) ||
+        !(std::abs(glm::length(light.Axis) - Real(1)) < Real(1e-6))))
+    {
+      return "a spot light needs a cone angle in (0, 90) degrees, a finite exponent >= 0 and a "
+             "unit axis (its position and focal point must differ)";
+    }
+    return std::string();
   }
 };
 
@@ -251,6 +320,34 @@ Jet<Real> Clamp01(const Jet<Real>& x)
 }
 
 template <typename Real>
+Real Reciprocal(Real x)
+{
+  return Real(1) / x;
+}
+
+template <typename Real>
+Jet<Real> Reciprocal(const Jet<Real>& x)
+{
+  return Pow(x, Real(-1));
+}
+
+// Whether a squared length vanishes, so that a sample has no direction to
+// normalise (at a light's position, or where l = -v). A Jet's enclosure
+// takes such points in (its bounds become wide or NaN and the clamp or
+// Cosine bounds them): never for Jets.
+template <typename Real>
+bool Vanishes(Real squared)
+{
+  return !(squared > Real(0));
+}
+
+template <typename Real>
+bool Vanishes(const Jet<Real>&)
+{
+  return false;
+}
+
+template <typename Real>
 Real Either(Real a, Real)
 {
   return a;
@@ -264,14 +361,63 @@ Jet<Real> Either(const Jet<Real>& a, const Jet<Real>& b)
 }
 } // namespace detail
 
+namespace detail
+{
+// The unit direction l from the sample x (world) towards a positional light,
+// and the light's attenuation there (times the spot's factor); both 0 at the
+// light's position, where l is undefined (no integral sees a point).
+template <typename Real, typename T>
+void TowardsLight(const Light<Real>& light, const T x[3], T l[3], T& attenuation)
+{
+  const T L[3] = { light.Position.x - x[0], light.Position.y - x[1], light.Position.z - x[2] };
+  const T squared = L[0] * L[0] + L[1] * L[1] + L[2] * L[2];
+  if (Vanishes(squared))
+  {
+    l[0] = l[1] = l[2] = attenuation = T(Real(0));
+    return;
+  }
+  const T inverse = InverseSqrt(squared);
+  for (int k = 0; k < 3; ++k)
+  {
+    l[k] = L[k] * inverse;
+  }
+  const Real* a = &light.Attenuation[0];
+  attenuation = Reciprocal(a[0] + a[1] * (squared * inverse) + a[2] * squared);
+  if (light.IsSpot())
+  {
+    const T cone = -(l[0] * light.Axis.x + l[1] * light.Axis.y + l[2] * light.Axis.z);
+    const Real exponent = light.Exponent;
+    attenuation = attenuation *
+      Cases(
+        cone, std::cos(light.ConeAngle * Real(3.14159265358979323846) / Real(180)),
+        [](const T&) { return T(Real(0)); },
+        [exponent](const T& c) { return FacingPower(c, exponent); });
+  }
+}
+
+// f(n.h), h = half / |half| (0 where half vanishes: l = -v).
+template <typename Real, typename T>
+T HalfwayFacing(const T n[3], const T half[3], bool twoSided)
+{
+  const T squared = half[0] * half[0] + half[1] * half[1] + half[2] * half[2];
+  if (Vanishes(squared))
+  {
+    return T(Real(0));
+  }
+  return Facing(
+    Cosine((n[0] * half[0] + n[1] * half[1] + n[2] * half[2]) * InverseSqrt(squared)), twoSided);
+}
+} // namespace detail
+
 // The lit colour of ShadingModel::Shade, channel by channel, on plain numbers
 // (T = Real) or on Jets (an enclosure of the lit colour over an interval of
 // the ray, each input a Jet of the same variable): `colour` the sample's
 // colour, `gradient` its world-space gradient, `toViewer` the unit direction
-// towards the viewer.
+// towards the viewer, `position` the sample's world position (read only
+// when a light is positional: may be null otherwise).
 template <typename Real, typename T>
 void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradient[3],
-  const glm::vec<3, Real>& toViewer, T lit[3])
+  const glm::vec<3, Real>& toViewer, const T* position, T lit[3])
 {
   T ambient[3];
   for (int c = 0; c < 3; ++c)
@@ -293,8 +439,25 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
   const T n[3] = { gradient[0] * inverse, gradient[1] * inverse, gradient[2] * inverse };
   T diffuse[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
   T specular[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
-  for (const DirectionalLight<Real>& light : model.Lights)
+  for (const Light<Real>& light : model.Lights)
   {
+    if (light.Positional)
+    {
+      T l[3], attenuation;
+      detail::TowardsLight(light, position, l, attenuation);
+      const T nl =
+        detail::Facing(detail::Cosine(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]), model.TwoSided);
+      const T half[3] = { l[0] + toViewer.x, l[1] + toViewer.y, l[2] + toViewer.z };
+      const T highlight = detail::FacingPower(
+        detail::HalfwayFacing<Real>(n, half, model.TwoSided), model.SpecularPower);
+      const T diffuseTerm = attenuation * nl, specularTerm = attenuation * highlight;
+      for (int c = 0; c < 3; ++c)
+      {
+        diffuse[c] = diffuse[c] + diffuseTerm * light.Diffuse[c];
+        specular[c] = specular[c] + specularTerm * light.Specular[c];
+      }
+      continue;
+    }
     const glm::vec<3, Real>& l = light.Direction;
     const T nl =
       detail::Facing(detail::Cosine(n[0] * l.x + n[1] * l.y + n[2] * l.z), model.TwoSided);
@@ -326,7 +489,8 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
 // argument of IntegrateRiemann / IntegrateAdaptive (RayIntegrators.h), which
 // call Shade() on every sample's colour. `NormalMatrix` maps a gradient in
 // grid coordinates to world space (the transpose of the world-to-grid
-// matrix's linear part); `ToViewer` is constant along a ray.
+// matrix's linear part); `ToViewer` is constant along a ray; the sample at
+// t is at WorldOrigin + t WorldDirection in world space.
 template <typename Real, typename VolumeT>
 struct ShadedRayField
 {
@@ -338,6 +502,8 @@ struct ShadedRayField
   glm::mat<3, 3, Real> NormalMatrix;
   Vector ToViewer;
   const ShadingModel<Real>& Model;
+  Vector WorldOrigin;
+  Vector WorldDirection;
 
   Real operator()(Real t) const { return this->Volume(this->Origin + t * this->Direction); }
 
@@ -345,7 +511,8 @@ struct ShadedRayField
   {
     const Vector gradient =
       this->NormalMatrix * this->Volume.Gradient(this->Origin + t * this->Direction);
-    return this->Model.Shade(color, gradient, this->ToViewer);
+    return this->Model.Shade(
+      color, gradient, this->ToViewer, this->WorldOrigin + t * this->WorldDirection);
   }
 };
 
