@@ -560,7 +560,8 @@ std::string avos::UnsupportedPropertySettings(
   }
   if (property->GetShade(0) && !shading)
   {
-    return "Shading is not supported (emission-absorption model): turn the property's Shade off";
+    return "Shading is not supported by this class: turn the property's Shade off "
+           "(vtkAdaptiveVolumeMapper and vtkVolumeOnSurfaceMapper shade)";
   }
   return std::string();
 }

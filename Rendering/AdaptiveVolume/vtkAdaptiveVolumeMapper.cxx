@@ -5,8 +5,6 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
-#include "vtkLight.h"
-#include "vtkLightCollection.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
@@ -25,6 +23,7 @@
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
+#include "avosShadingFromRenderer.h"
 #include "avosTransferFunctionFromProperty.h"
 #include "avosVolumeInput.h"
 
@@ -45,82 +44,6 @@ namespace
 {
 namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
-
-// The property's shading coefficients and the renderer's switched-on lights
-// (in world space, each light's colours times its intensity; directional:
-// from the focal point towards the position; positional: the position, the
-// attenuation values and the spot's cone), and the same as numbers in `key`;
-// empty, or why the frame cannot be shaded.
-std::string PrepareShading(vtkRenderer* ren, vtkVolumeProperty* property, int blend,
-  an::ShadingModel<double>& model, std::vector<double>& key)
-{
-  if (blend != vtkVolumeMapper::COMPOSITE_BLEND)
-  {
-    return "shading applies to the composite blend mode only, not to projections; turn the "
-           "property's Shade off";
-  }
-  model = an::ShadingModel<double>();
-  model.Ambient = property->GetAmbient(0);
-  model.Diffuse = property->GetDiffuse(0);
-  model.Specular = property->GetSpecular(0);
-  model.SpecularPower = property->GetSpecularPower(0);
-  model.TwoSided = ren->GetTwoSidedLighting() != 0;
-  vtkLightCollection* lights = ren->GetLights();
-  vtkCollectionSimpleIterator it;
-  lights->InitTraversal(it);
-  while (vtkLight* light = lights->GetNextLight(it))
-  {
-    if (!light->GetSwitch())
-    {
-      continue;
-    }
-    double position[3], focal[3];
-    light->GetTransformedPosition(position);
-    light->GetTransformedFocalPoint(focal);
-    const glm::dvec3 from(position[0], position[1], position[2]);
-    const glm::dvec3 towards = from - glm::dvec3(focal[0], focal[1], focal[2]);
-    const double length = glm::length(towards);
-    an::Light<double> l;
-    l.Positional = light->GetPositional() != 0;
-    l.Position = from;
-    l.ConeAngle = light->GetConeAngle();
-    l.Exponent = light->GetExponent();
-    const double* attenuation = light->GetAttenuationValues();
-    l.Attenuation = glm::dvec3(attenuation[0], attenuation[1], attenuation[2]);
-    if (length > 0.0 && std::isfinite(length))
-    {
-      l.Direction = towards / length;
-      l.Axis = -l.Direction;
-    }
-    else if (!l.Positional || l.IsSpot())
-    {
-      return "a light's position and focal point coincide";
-    }
-    const double intensity = light->GetIntensity();
-    const double* diffuse = light->GetDiffuseColor();
-    const double* specular = light->GetSpecularColor();
-    l.Diffuse = intensity * glm::dvec3(diffuse[0], diffuse[1], diffuse[2]);
-    l.Specular = intensity * glm::dvec3(specular[0], specular[1], specular[2]);
-    model.Lights.push_back(l);
-  }
-  const std::string invalid = model.Validate();
-  if (!invalid.empty())
-  {
-    return invalid;
-  }
-  key = { model.Ambient, model.Diffuse, model.Specular, model.SpecularPower,
-    model.TwoSided ? 1.0 : 0.0 };
-  for (const auto& light : model.Lights)
-  {
-    for (const glm::dvec3& v : { light.Direction, light.Diffuse, light.Specular, light.Position,
-           light.Attenuation, light.Axis })
-    {
-      key.insert(key.end(), { v.x, v.y, v.z });
-    }
-    key.insert(key.end(), { light.Positional ? 1.0 : 0.0, light.ConeAngle, light.Exponent });
-  }
-  return std::string();
-}
 
 // The blend mode as the engine names it (ValidateSettings admits these).
 avos::engine::Blend EngineBlend(int blend)
@@ -552,10 +475,16 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
                      "centres is not modelled).");
     return false;
   }
+  if (internals.Shade && this->BlendMode != COMPOSITE_BLEND)
+  {
+    vtkErrorMacro(<< "Cannot shade: shading applies to the composite blend mode only, not to "
+                     "projections; turn the property's Shade off.");
+    return false;
+  }
   if (internals.Shade)
   {
     const std::string error =
-      PrepareShading(ren, property, this->BlendMode, internals.Shading, internals.ShadingKey);
+      avos::ShadingFromRenderer(ren, property, internals.Shading, internals.ShadingKey);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Cannot shade: " << error << ".");
@@ -803,22 +732,7 @@ void vtkAdaptiveVolumeMapper::SetUpMethod()
   method.PieceTable = internals.PieceLanes ? &internals.PieceTable : nullptr;
   if (internals.Shade)
   {
-    method.Shading = &internals.Shading;
-    const double* worldToGrid = internals.Frame.Rays.WorldToGrid;
-    for (int r = 0; r < 3; ++r)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        // glm is column-major: m[column][row]. The normal matrix is the
-        // transpose of world-to-grid's linear part.
-        method.NormalMatrix[r][c] = worldToGrid[4 * r + c];
-      }
-    }
-    method.GridToWorld = glm::inverse(glm::transpose(method.NormalMatrix));
-    for (int r = 0; r < 3; ++r)
-    {
-      method.GridToWorldOffset[r] = internals.GridToWorld->GetElement(r, 3);
-    }
+    avos::ShadeWith(internals.Shading, internals.GridToWorld->GetData(), method);
   }
 }
 

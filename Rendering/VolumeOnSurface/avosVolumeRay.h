@@ -23,6 +23,7 @@
 #include "avosEmptySpaceRanges.h"
 #include "avosEngineVolume.h"
 #include "avosImageGrid.h"
+#include "avosShadingFromRenderer.h"
 #include "avosTransferFunctionFromProperty.h"
 #include "avosVolumeInput.h"
 
@@ -42,6 +43,8 @@
 #include <mutex>
 #include <string>
 #include <vector>
+
+class vtkRenderer;
 
 namespace avos
 {
@@ -90,11 +93,21 @@ struct VolumeRaySetup
   // The clipping planes that cut the rays (grid coordinates; AddClippingPlanes).
   avos::numerics::ClipRegion<double> Clip;
 
+  // Gradient shading of the emission (the property's Shade under `lights`'
+  // lights), its numbers (ShadingFromRenderer's key) and the grid-to-world
+  // map the rays' shading reads.
+  bool Shade = false;
+  avos::numerics::ShadingModel<double> Shading;
+  std::vector<double> ShadingKey;
+  double GridToWorldMatrix[16];
+
   // Empty, or why the volume or the property cannot be used. `planes`: the
   // clipping planes (world coordinates) that cut every ray; null: none.
+  // `lights`: the renderer whose lights shade the rays when the property
+  // shades; null: shading is refused (the rays do not know the view).
   std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
     RayIntegration method, double sampleDistance, double tolerance,
-    vtkPlaneCollection* planes = nullptr)
+    vtkPlaneCollection* planes = nullptr, vtkRenderer* lights = nullptr)
   {
     this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
     const std::string unusable = ValidateVolumeInput(volume, this->Scalars, false);
@@ -131,17 +144,30 @@ struct VolumeRaySetup
     {
       return "the volume's spacing must be non-zero and finite";
     }
-    const std::string unsupported = UnsupportedPropertySettings(property);
+    const std::string unsupported = UnsupportedPropertySettings(property, lights != nullptr);
     if (!unsupported.empty())
     {
       return unsupported;
     }
+    this->Shade = property && property->GetShade(0) != 0;
+    this->ShadingKey.clear();
+    if (this->Shade)
+    {
+      const std::string invalid =
+        ShadingFromRenderer(lights, property, this->Shading, this->ShadingKey);
+      if (!invalid.empty())
+      {
+        return "cannot shade: " + invalid;
+      }
+    }
     // The piecewise method's colours within ColourShare of its eps where
-    // VTK's are not piecewise linear, its rays integrated to the rest.
+    // VTK's are not piecewise linear, its rays integrated to the rest; lit,
+    // a colour's error is multiplied by up to the shading's colour gain.
+    const double gain = this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
     int certified = 0;
     const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel,
       this->TF, &this->ApproximatedIntervals,
-      method == RayIntegration::Piecewise ? ColourShare * tolerance : 0.0, &certified);
+      method == RayIntegration::Piecewise ? ColourShare * tolerance / gain : 0.0, &certified);
     const double integration = IntegrationTolerance(tolerance, certified);
     if (!error.empty())
     {
@@ -173,6 +199,7 @@ struct VolumeRaySetup
     }
     vtkMatrix4x4::Invert(gridToWorld, inverse);
     std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
+    std::copy(gridToWorld->GetData(), gridToWorld->GetData() + 16, this->GridToWorldMatrix);
     this->Method = method;
     this->SampleDistance = sampleDistance;
     this->Settings.Tolerance = integration;
@@ -188,11 +215,11 @@ struct VolumeRaySetup
 };
 
 // Whether the rays of `setup` read the engine's view of the scalars: the
-// Riemann kernel's, and the piecewise method's cells where the scalars are
+// Riemann kernel's (unshaded), and the piecewise method's cells where the scalars are
 // 8- or 16-bit unsigned (the only ones the cells' kernel reads).
 inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
 {
-  return setup.Method == RayIntegration::Levoy ||
+  return (setup.Method == RayIntegration::Levoy && !setup.Shade) ||
     (setup.Method == RayIntegration::Piecewise && setup.Scalars &&
       avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType())));
 }
@@ -224,6 +251,12 @@ public:
     m.EngineTable = &setup.Table;
     m.Kernels = avos::engine::PieceKernels(
       setup.Method == RayIntegration::Piecewise ? setup.Engine : nullptr);
+    if (setup.Shade)
+    {
+      // A ray at a time: the SIMD kernels do not shade.
+      m.EngineVolume = nullptr;
+      ShadeWith(setup.Shading, setup.GridToWorldMatrix, m);
+    }
   }
 
   // results[i]: the RGBA of the volume from vertices[i] along directions[i]
@@ -276,7 +309,7 @@ public:
       segments[k].assign(1, { 0.0, lengths[k] });
     }
     if (this->Setup.Engine && this->Setup.Method == RayIntegration::Levoy &&
-      this->Setup.Clip.IsEmpty())
+      this->Setup.Clip.IsEmpty() && !this->Setup.Shade)
     {
       // A ray per lane of the engine's kernel, the same sums as Integrate's.
       thread_local std::vector<avos::engine::RiemannRay> lanes;

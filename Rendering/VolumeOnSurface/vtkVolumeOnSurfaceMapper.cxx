@@ -234,13 +234,14 @@ struct ViewKey
   // method, step, tolerance, extinction, skipping, visibility, full surface
   // drawn, volume side
   std::array<double, 8> Integration{};
-  std::vector<double> Planes; // each clipping plane's origin and normal
+  std::vector<double> Planes;  // each clipping plane's origin and normal
+  std::vector<double> Shading; // the lights and coefficients, when the property shades
 
   bool operator==(const ViewKey& o) const
   {
     return this->Projection == o.Projection && this->Eye == o.Eye && this->Parallel == o.Parallel &&
       this->Surface == o.Surface && this->Volume == o.Volume && this->Property == o.Property &&
-      this->Integration == o.Integration && this->Planes == o.Planes;
+      this->Integration == o.Integration && this->Planes == o.Planes && this->Shading == o.Shading;
   }
 };
 
@@ -957,6 +958,12 @@ bool vtkVolumeOnSurfaceMapper::UpdateView(vtkRenderer* ren)
       key.Planes.insert(key.Planes.end(), { o[0], o[1], o[2], n[0], n[1], n[2] });
     }
   }
+  if (this->VolumeProperty->GetShade(0))
+  {
+    // (A light that cannot be used is reported by ColourLevel's Prepare.)
+    avos::numerics::ShadingModel<double> model;
+    avos::ShadingFromRenderer(ren, this->VolumeProperty, model, key.Shading);
+  }
   // The view points into the key's own storage, which lives as long as it.
   in.View = VertexView{ key.Projection.data(), glm::dvec3(key.Eye[0], key.Eye[1], key.Eye[2]),
     -glm::dvec3(direction[0], direction[1], direction[2]), key.Parallel };
@@ -1027,7 +1034,7 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
   // cut the rays: no volume from beyond a plane colours a vertex.
   const std::string error = setup.Prepare(in.Volume, this->VolumeProperty,
     this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
-    this->SampleDistance, this->Tolerance, this->ClippingPlanes);
+    this->SampleDistance, this->Tolerance, this->ClippingPlanes, ren);
   if (!avos::ReportPrepared(this, error, setup))
   {
     return false;

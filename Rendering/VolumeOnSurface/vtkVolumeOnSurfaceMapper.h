@@ -44,8 +44,16 @@
  * every 16th new view, to measure again), so a software OpenGL that draws
  * slowly skips it and a GPU keeps it.
  *
+ * Shading: with the volume property's Shade on, each ray's emission is lit
+ * as vtkAdaptiveVolumeMapper lights it (Blinn-Phong with the exact gradient
+ * of the trilinear field, the renderer's switched-on lights: directional,
+ * positional, spots; avos/numerics/Shading.h), the piecewise method's error
+ * within Tolerance as there. The surface itself is then still lit by the
+ * actor's property: turn its lighting off to show the rays' colours alone.
+ *
  * Nothing is cast when neither the camera, the viewport, the surface, the
- * volume, the transfer function nor a parameter changed.
+ * volume, the transfer function, the lights (when shading) nor a parameter
+ * changed.
  *
  * @sa vtkVolumeOnSurfaceFilter vtkOpenMeshDecimation vtkAdaptiveVolumeMapper
  */
