@@ -263,6 +263,11 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
       position[a] = p0[a] + x * dir[a];
     }
     LitColour(model, colour, gradient, toViewer, position, lit);
+    // The same lit colour from the gradient's quadratics, as ShadedPiece
+    // builds it.
+    Jet<double> fromPolynomials[3];
+    LitColourOf(model, colour, detail::GradientPolynomials<double>(G, x.F.Lo, x.Radius, false),
+      toViewer, position, fromPolynomials);
     detail::LitApproximation<double> a;
     const double c = v0 + h / 2.0;
     detail::Approximate(lit, x.Radius, 1.0, 0.0, a);
@@ -284,6 +289,8 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
       for (int k = 0; k < 3; ++k)
       {
         ASSERT_TRUE(lit[k].V.Contains(value[k])) << "trial " << trial << ", channel " << k;
+        ASSERT_TRUE(fromPolynomials[k].V.Contains(value[k]))
+          << "trial " << trial << ", channel " << k << ", from the quadratics";
         const double P =
           a.Quadratic[k] ? a.F[k] + (v - c) * (a.F1[k] + (v - c) * a.F2[k] / 2.0) : a.Constant[k];
         ASSERT_LE(std::abs(P - value[k]), a.Delta[k] * (1.0 + 1e-9) + 1e-15)
@@ -292,6 +299,57 @@ TEST(PiecewiseShading, LitColourEnclosuresHoldTheSamples)
     }
   }
   EXPECT_GT(quadratics, 1500) << "the quadratics are tested, not only the constants";
+}
+
+// The piece's polynomials as Jets (PolynomialJet): over random intervals of
+// random quartics, the value, first and second derivatives' enclosures hold
+// every sample, and F, F1 the centre's value and slope.
+TEST(PiecewiseShading, PolynomialJetEnclosesTheDerivatives)
+{
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    double p[5];
+    Bounds<double> coefficients[5];
+    for (int k = 0; k < 5; ++k)
+    {
+      p[k] = 3.0 * u(rng);
+      coefficients[k] = Bounds<double>(p[k]);
+    }
+    const double v0 = 2.0 * u(rng), h = std::pow(10.0, -3.0 * (u(rng) + 1.0));
+    const Jet<double> x = Jet<double>::Variable(Bounds<double>(v0, v0 + h));
+    const Jet<double> j = detail::PolynomialJet(coefficients, x.F.Lo, x.Radius);
+    auto at = [&](double v, int derivative)
+    {
+      double sum = 0.0;
+      for (int k = 4; k >= derivative; --k)
+      {
+        double c = p[k];
+        for (int d = 0; d < derivative; ++d)
+        {
+          c *= double(k - d);
+        }
+        sum = sum * v + c;
+      }
+      return sum;
+    };
+    const double slack = 1e-12;
+    auto holds = [slack](const Bounds<double>& b, double value)
+    {
+      return value >= b.Lo - slack * (1.0 + std::abs(value)) &&
+        value <= b.Hi + slack * (1.0 + std::abs(value));
+    };
+    ASSERT_TRUE(holds(j.F, at(x.F.Lo, 0))) << "trial " << trial;
+    ASSERT_TRUE(holds(j.F1, at(x.F.Lo, 1))) << "trial " << trial;
+    for (int i = 0; i <= 16; ++i)
+    {
+      const double v = v0 + h * i / 16.0;
+      ASSERT_TRUE(holds(j.V, at(v, 0))) << "trial " << trial;
+      ASSERT_TRUE(holds(j.D1, at(v, 1))) << "trial " << trial;
+      ASSERT_TRUE(holds(j.D2, at(v, 2))) << "trial " << trial;
+    }
+  }
 }
 
 TEST(PiecewiseShading, BadInput)

@@ -41,9 +41,11 @@
 // So every channel of every ray is within eps, up to rounding.
 //
 // Termination. A sub-interval is accepted (v advances by its length h, at
-// least the floor but at the piece's end; h then doubles) or halved, at most
-// 41 times in a row before h reaches the floor, where it is accepted. So a
-// piece takes at most 42 (2^40 + 1) evaluations. Since that would never end
+// least the floor but at the piece's end; h then grows by the factor
+// NextLengthFactor predicts, within [1, 4], or doubles after a floor
+// sub-interval) or shrunk by at least half, at most 41 times in a row before
+// h reaches the floor, where it is accepted. So a piece takes at most 42
+// (2^40 + 1) evaluations. Since that would never end
 // in practice, a piece is refused beyond MaximumSubintervals evaluations
 // (the ray reports an error). A smooth L needs few: delta2 shrinks as h^3.
 // A kink of L (n.l or n.h changing sign, the clamp switching) makes its
@@ -122,6 +124,97 @@ void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
   }
 }
 
+// The polynomial sum_k p[k] v^k (its coefficients enclosed) as a Jet over
+// the sub-interval of centre c and radius r: its coefficients about c, b_k
+// (Taylor shift in interval arithmetic), give F = b0, F1 = b1 and the ranges
+// of the value, first and second derivatives as sums of b_k y^k over y in
+// [-r, r]. Far cheaper than Horner's rule on Jets (a product of Jets per
+// degree), and tighter.
+template <typename Real, int N>
+Jet<Real> PolynomialJet(const Bounds<Real> (&p)[N], Real c, Real r)
+{
+  static_assert(N >= 1 && N <= 5, "degree at most 4");
+  Bounds<Real> b[N];
+  std::copy(p, p + N, b);
+  const Bounds<Real> centre(c);
+  for (int i = 0; i < N - 1; ++i)
+  {
+    for (int k = N - 2; k >= i; --k)
+    {
+      b[k] = b[k] + centre * b[k + 1];
+    }
+  }
+  // y^k over [-r, r]: [-r^k, r^k] for odd k, [0, r^k] for even k.
+  Bounds<Real> Y[N];
+  Real power = Real(1);
+  for (int k = 0; k < N; ++k)
+  {
+    Y[k] = k == 0 ? Bounds<Real>(Real(1))
+      : k % 2     ? Bounds<Real>::Outward(-power, power)
+                  : Bounds<Real>::Outward(Real(0), power);
+    power *= r;
+  }
+  Jet<Real> j;
+  j.F = b[0];
+  j.F1 = N > 1 ? b[1] : Bounds<Real>(Real(0));
+  j.V = b[0];
+  j.D1 = j.F1;
+  j.D2 = Bounds<Real>(Real(0));
+  for (int k = 1; k < N; ++k)
+  {
+    j.V = j.V + b[k] * Y[k];
+    if (k >= 2)
+    {
+      j.D1 = j.D1 + Bounds<Real>(Real(k)) * b[k] * Y[k - 1];
+      j.D2 = j.D2 + Bounds<Real>(Real(k * (k - 1))) * b[k] * Y[k - 2];
+    }
+  }
+  j.Radius = r;
+  return j;
+}
+
+// A piece's gradient as LitColourOf reads it (Shading.h), from its
+// world-space components' quadratics G[a][k] v^k over the sub-interval of
+// centre c and radius r: each component a PolynomialJet, the squared length
+// and the dot products with constant directions built from them (not from
+// the quartic's own coefficients, whose cancellation where the gradient
+// nearly vanishes would cost the enclosure its relative precision there).
+// `Zero` where the cell's corners are equal (no normal anywhere).
+template <typename Real>
+struct GradientPolynomials
+{
+  Jet<Real> G[3];
+  bool Zero;
+
+  GradientPolynomials(const Real (*g)[3], Real c, Real r, bool zero)
+    : Zero(zero)
+  {
+    for (int a = 0; a < 3 && !zero; ++a)
+    {
+      const Bounds<Real> q[3] = { g[a][0], g[a][1], g[a][2] };
+      this->G[a] = PolynomialJet(q, c, r);
+    }
+  }
+
+  Jet<Real> Squared() const
+  {
+    return this->G[0] * this->G[0] + this->G[1] * this->G[1] + this->G[2] * this->G[2];
+  }
+  Jet<Real> Dot(const glm::vec<3, Real>& w) const
+  {
+    return this->G[0] * w.x + this->G[1] * w.y + this->G[2] * w.z;
+  }
+  void Components(Jet<Real> g[3]) const { std::copy(this->G, this->G + 3, g); }
+  Sign SignOf(const Jet<Real>& squared) const
+  {
+    if (this->Zero || squared.V.Hi <= Real(0))
+    {
+      return Sign::Zero;
+    }
+    return squared.V.Lo > Real(0) && std::isfinite(squared.V.Hi) ? Sign::Positive : Sign::Either;
+  }
+};
+
 // The floor of a piece's sub-intervals, relative to its length: 2^-40.
 constexpr double ShadedFloor = 9.094947017729282e-13;
 
@@ -136,6 +229,20 @@ struct LitApproximation
   Real F[3], F1[3], F2[3];
   Real Delta[3];
 };
+
+// The factor of the next sub-interval's length after one whose
+// approximation erred by `excess` times its half share: the error times dT
+// shrinks as the length's fourth power for the quadratic (delta2 ~ r^3, dT ~
+// r) against a share ~ r, so the cube root of 0.8 / excess aims just below
+// the share (fewer, longer sub-intervals for a few more rejections,
+// measured); at most `most`, at least 1/8 (a kink makes the error shrink
+// only as r).
+template <typename Real>
+Real NextLengthFactor(Real excess, Real most)
+{
+  const Real f = excess > Real(0) && std::isfinite(excess) ? std::cbrt(Real(0.8) / excess) : most;
+  return std::min(most, std::max(Real(0.125), f));
+}
 
 // Fills `a` from the Jets of the lit colour over a sub-interval of radius r:
 // per channel the constant unless its error times dT exceeds `limit` and the
@@ -186,6 +293,11 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
 {
   using JetR = Jet<Real>;
   const bool positional = shading.Model->HasPositionalLights();
+  bool zero = true; // no normal anywhere on the piece
+  for (int a = 0; a < 3; ++a)
+  {
+    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
+  }
   const Real floor = l * Real(ShadedFloor);
   Real v = Real(0), h = l, Ev = Real(1);
   for (long count = 0; v < l && Ev > Real(0); ++count)
@@ -203,16 +315,15 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     const bool atFloor = h <= floor; // not width: v + h - v may round above it
 
     const JetR u = JetR::Variable(Bounds<Real>(v, end));
-    const JetR s = q.K[0] + u * (q.K[1] + u * (q.K[2] + u * q.K[3]));
-    JetR colour[3], gradient[3], lit[3];
+    const Real c = u.F.Lo;
+    const Bounds<Real> cubic[4] = { q.K[0], q.K[1], q.K[2], q.K[3] };
+    const JetR s = PolynomialJet(cubic, c, u.Radius);
+    JetR colour[3], lit[3];
     for (int k = 0; k < 3; ++k)
     {
       colour[k] = p.Colour[k] + p.ColourSlope[k] * s;
-      // An exact 0 where the cell's corners are equal (no outward rounding).
-      gradient[k] = G[k][0] == Real(0) && G[k][1] == Real(0) && G[k][2] == Real(0)
-        ? JetR(Real(0))
-        : G[k][0] + u * (G[k][1] + u * G[k][2]);
     }
+    const GradientPolynomials<Real> gradient(G, c, u.Radius, zero);
     JetR position[3];
     if (positional)
     {
@@ -221,12 +332,18 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
         position[k] = start[k] + u * shading.WorldDirection[k];
       }
     }
-    LitColour(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
+    LitColourOf(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
     ++stats.Samples;
 
     LitApproximation<Real> a;
-    const Real c = v + width / Real(2);
     bool fits = Approximate(lit, u.Radius, dT, share / Real(2), a);
+    // How far the approximation's error is from its half share: the next
+    // length follows from it (below).
+    Real ratio = Real(0);
+    for (int k = 0; k < 3; ++k)
+    {
+      ratio = std::max(ratio, a.Delta[k] * dT / (share / Real(2)));
+    }
     // The P' terms: T(v0) int P' e^{-dtheta}, per channel (0 for a constant).
     Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
     Real g[3][3], limits[3];
@@ -274,7 +391,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     if (!fits && !atFloor)
     {
       ++stats.Rejected;
-      h = std::max(Real(0.5) * h, floor);
+      h = std::max(h * NextLengthFactor(ratio, Real(0.5)), floor);
       continue;
     }
     if (!fits)
@@ -298,7 +415,9 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     stats.Accept(width);
     v = end;
     Ev = Eh;
-    h *= Real(2);
+    // A fit predicts its successor's length; a floor sub-interval that did
+    // not fit (a kink) says nothing of the next one: h doubles.
+    h *= fits ? std::max(Real(1), NextLengthFactor(ratio, Real(4))) : Real(2);
   }
   return true;
 }

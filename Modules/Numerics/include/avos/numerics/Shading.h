@@ -409,14 +409,39 @@ T HalfwayFacing(const T n[3], const T half[3], bool twoSided)
 }
 } // namespace detail
 
+namespace detail
+{
+// A gradient given by its components, as LitColour reads a gradient: its
+// squared length, its dot product with a constant direction, its components
+// (for positional lights), and whether it vanishes.
+template <typename Real, typename T>
+struct GradientComponents
+{
+  const T* G;
+
+  T Squared() const
+  {
+    return this->G[0] * this->G[0] + this->G[1] * this->G[1] + this->G[2] * this->G[2];
+  }
+  T Dot(const glm::vec<3, Real>& w) const
+  {
+    return this->G[0] * w.x + this->G[1] * w.y + this->G[2] * w.z;
+  }
+  void Components(T g[3]) const { std::copy(this->G, this->G + 3, g); }
+  Sign SignOf(const T& squared) const { return GradientSign(this->G, squared); }
+};
+} // namespace detail
+
 // The lit colour of ShadingModel::Shade, channel by channel, on plain numbers
 // (T = Real) or on Jets (an enclosure of the lit colour over an interval of
 // the ray, each input a Jet of the same variable): `colour` the sample's
-// colour, `gradient` its world-space gradient, `toViewer` the unit direction
-// towards the viewer, `position` the sample's world position (read only
-// when a light is positional: may be null otherwise).
-template <typename Real, typename T>
-void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradient[3],
+// colour, `gradient` its world-space gradient as detail::GradientComponents
+// reads one (PiecewiseShading.h gives one from its polynomials), `toViewer`
+// the unit direction towards the viewer, `position` the sample's world
+// position (read only when a light is positional: may be null otherwise).
+// n.l is (g.l) / |g|: one product per light and term.
+template <typename Real, typename T, typename Gradient>
+void LitColourOf(const ShadingModel<Real>& model, const T colour[3], const Gradient& gradient,
   const glm::vec<3, Real>& toViewer, const T* position, T lit[3])
 {
   T ambient[3];
@@ -424,9 +449,8 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
   {
     ambient[c] = model.Ambient * colour[c];
   }
-  const T squared =
-    gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2];
-  const detail::Sign sign = detail::GradientSign(gradient, squared);
+  const T squared = gradient.Squared();
+  const detail::Sign sign = gradient.SignOf(squared);
   if (sign == detail::Sign::Zero)
   {
     for (int c = 0; c < 3; ++c)
@@ -436,14 +460,15 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
     return;
   }
   const T inverse = detail::InverseSqrt(squared);
-  const T n[3] = { gradient[0] * inverse, gradient[1] * inverse, gradient[2] * inverse };
   T diffuse[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
   T specular[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
   for (const Light<Real>& light : model.Lights)
   {
     if (light.Positional)
     {
-      T l[3], attenuation;
+      T g[3], l[3], attenuation;
+      gradient.Components(g);
+      const T n[3] = { g[0] * inverse, g[1] * inverse, g[2] * inverse };
       detail::TowardsLight(light, position, l, attenuation);
       const T nl =
         detail::Facing(detail::Cosine(n[0] * l[0] + n[1] * l[1] + n[2] * l[2]), model.TwoSided);
@@ -459,13 +484,11 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
       continue;
     }
     const glm::vec<3, Real>& l = light.Direction;
-    const T nl =
-      detail::Facing(detail::Cosine(n[0] * l.x + n[1] * l.y + n[2] * l.z), model.TwoSided);
+    const T nl = detail::Facing(detail::Cosine(gradient.Dot(l) * inverse), model.TwoSided);
     const glm::vec<3, Real> half = l + toViewer;
     const Real halfLength = glm::length(half);
     const T nh = halfLength > Real(0)
-      ? detail::Facing(detail::Cosine((n[0] * half.x + n[1] * half.y + n[2] * half.z) / halfLength),
-          model.TwoSided)
+      ? detail::Facing(detail::Cosine(gradient.Dot(half / halfLength) * inverse), model.TwoSided)
       : T(Real(0));
     const T highlight = detail::FacingPower(nh, model.SpecularPower);
     for (int c = 0; c < 3; ++c)
@@ -483,6 +506,15 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
     }
     lit[c] = detail::Clamp01(value);
   }
+}
+
+// LitColourOf with the gradient's components.
+template <typename Real, typename T>
+void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradient[3],
+  const glm::vec<3, Real>& toViewer, const T* position, T lit[3])
+{
+  LitColourOf(
+    model, colour, detail::GradientComponents<Real, T>{ gradient }, toViewer, position, lit);
 }
 
 // A ray through a trilinear volume whose emission is shaded: the `field`
