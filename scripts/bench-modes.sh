@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Figures of docs/RESULTS.md for the mapper's modes beside VTK's mappers, on
 # Bonsai and Foot (800x600, 2 threads, VTK's opacity model, median of 3
-# frames), each image compared with a fine one of ours:
+# frames; one frame for the shaded piecewise method, tens of seconds each),
+# each image compared with a fine one of ours:
 #   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
 #   scripts/bench-modes.sh projections [BUILD_DIR]   section 6: additive and average
 #   scripts/bench-modes.sh intensity [BUILD_DIR]     section 4: maximum, minimum, clipped
@@ -16,7 +17,7 @@ D="$root/../shared/data"
 run() {
   local ds="$1" label="$2" ref="$3"
   shift 3
-  if ! xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 --frames 3 "$@" \
+  if ! xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 --frames "${frames:-3}" "$@" \
     --compare "$ref" --report r.json > /dev/null 2>&1; then
     echo "$ds $label: failed"
     return
@@ -43,7 +44,10 @@ for ds in bonsai foot; do
     shading)
       reference $ds-shaded.exr --method coupled --tolerance 1e-4 --shade
       for shade in "" --shade; do
-        for m in vtk-fixed-point riemann "coupled --tolerance 0.01" "coupled --tolerance 0.001"; do
+        for m in vtk-fixed-point riemann "coupled --tolerance 0.01" "coupled --tolerance 0.001" \
+          "piecewise --tolerance 0.01" "piecewise --tolerance 0.001"; do
+          frames=3
+          [[ -n $shade && $m == piecewise* ]] && frames=1
           # shellcheck disable=SC2086
           run $ds "$m ${shade:-unshaded}" $ds-shaded.exr --method $m $shade
         done
