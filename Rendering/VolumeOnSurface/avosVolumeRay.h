@@ -149,16 +149,10 @@ struct VolumeRaySetup
     {
       return unsupported;
     }
-    this->Shade = property && property->GetShade(0) != 0;
-    this->ShadingKey.clear();
-    if (this->Shade)
+    const std::string unlit = this->PrepareShading(property, lights);
+    if (!unlit.empty())
     {
-      const std::string invalid =
-        ShadingFromRenderer(lights, property, this->Shading, this->ShadingKey);
-      if (!invalid.empty())
-      {
-        return "cannot shade: " + invalid;
-      }
+      return unlit;
     }
     // The piecewise method's colours within ColourShare of its eps where
     // VTK's are not piecewise linear, its rays integrated to the rest; lit,
@@ -206,6 +200,21 @@ struct VolumeRaySetup
     this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
     this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
     return std::string();
+  }
+
+  // Shade, Shading and ShadingKey from the property and `lights`; empty, or
+  // why the lights cannot be used.
+  std::string PrepareShading(vtkVolumeProperty* property, vtkRenderer* lights)
+  {
+    this->Shade = property && property->GetShade(0) != 0;
+    this->ShadingKey.clear();
+    if (!this->Shade)
+    {
+      return std::string();
+    }
+    const std::string invalid =
+      ShadingFromRenderer(lights, property, this->Shading, this->ShadingKey);
+    return invalid.empty() ? invalid : "cannot shade: " + invalid;
   }
 
   // Calls f(caster) with the execution's VolumeRay; false for a scalar type

@@ -7,8 +7,10 @@
 // exact gradient of the trilinear interpolant, whose world-space components
 // along the ray are quadratics in v. L has no closed-form integral against
 // tau T, so it is enclosed. On a sub-interval X = [v0, v1] of the piece, one
-// evaluation of LitColour on Jets (Enclosure.h) encloses, per channel, L(X),
-// and where L is smooth on X also L(c) and L'(c) at X's centre c and L''(X).
+// evaluation of LitColourOf on Jets (Enclosure.h; the piece's cubic and
+// gradient components enter as PolynomialJets of their coefficients)
+// encloses, per channel, L(X), and where L is smooth on X also L(c) and
+// L'(c) at X's centre c and L''(X).
 // Two approximations of L on X with proven errors:
 // - the constant P = mid L(X): |L - P| <= delta0 = width L(X) / 2;
 // - the quadratic P(v) = f + f1 (v - c) + f2 (v - c)^2 / 2, f, f1, f2 the
@@ -282,9 +284,10 @@ bool Approximate(const Jet<Real> lit[3], Real r, Real dT, Real limit, LitApproxi
 
 // int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
 // e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
-// position `start` at v = 0), added to `color`; see above. `scale` turns (dT + h / L) into a share,
-// `inverseL` is 1 / L; what floor sub-intervals exceed their share by is added to `overdraft`.
-// False when the piece is refused (MaximumSubintervals).
+// position `start` at v = 0), added to `color`; see above. `scale` turns
+// (dT + h / L) into a share, `inverseL` is 1 / L; what floor sub-intervals
+// exceed their share by is added to `overdraft`. False when the piece is
+// refused (MaximumSubintervals).
 template <typename Real>
 bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
