@@ -94,11 +94,9 @@ struct VolumeRaySetup
   avos::numerics::ClipRegion<double> Clip;
 
   // Gradient shading of the emission (the property's Shade under `lights`'
-  // lights), its numbers (ShadingFromRenderer's key) and the grid-to-world
-  // map the rays' shading reads.
+  // lights) and the grid-to-world map the rays' shading reads.
   bool Shade = false;
   avos::numerics::ShadingModel<double> Shading;
-  std::vector<double> ShadingKey;
   double GridToWorldMatrix[16];
 
   // Empty, or why the volume or the property cannot be used. `planes`: the
@@ -202,18 +200,17 @@ struct VolumeRaySetup
     return std::string();
   }
 
-  // Shade, Shading and ShadingKey from the property and `lights`; empty, or
-  // why the lights cannot be used.
+  // Shade and Shading from the property and `lights`; empty, or why the
+  // lights cannot be used.
   std::string PrepareShading(vtkVolumeProperty* property, vtkRenderer* lights)
   {
     this->Shade = property && property->GetShade(0) != 0;
-    this->ShadingKey.clear();
     if (!this->Shade)
     {
       return std::string();
     }
-    const std::string invalid =
-      ShadingFromRenderer(lights, property, this->Shading, this->ShadingKey);
+    std::vector<double> key; // the mapper's view key holds its own copy
+    const std::string invalid = ShadingFromRenderer(lights, property, this->Shading, key);
     return invalid.empty() ? invalid : "cannot shade: " + invalid;
   }
 
