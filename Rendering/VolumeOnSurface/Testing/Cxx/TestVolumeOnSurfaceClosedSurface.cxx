@@ -25,6 +25,7 @@
 #include "vtkVolumeOnSurfaceMapper.h"
 #include "vtkVolumeProperty.h"
 
+#include "VoSKnownAnswer.h"
 #include "avosTestHelpers.h"
 
 #include <algorithm>
@@ -36,18 +37,8 @@ int TestVolumeOnSurfaceClosedSurface(int, char*[])
   const int n = 65;
   const double voxel = 2.0 / (n - 1), radius = 0.6, tau = 0.02;
   const double color[3] = { 0.3, 0.8, 0.5 };
-  vtkNew<vtkImageData> volume;
-  volume->SetDimensions(n, n, n);
-  volume->SetOrigin(-1, -1, -1);
-  volume->SetSpacing(voxel, voxel, voxel);
-  volume->AllocateScalars(VTK_DOUBLE, 1);
-  vtkDataArray* scalars = volume->GetPointData()->GetScalars();
-  for (vtkIdType i = 0; i < volume->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    volume->GetPoint(i, p);
-    scalars->SetTuple1(i, 1.0 - std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]));
-  }
+  const auto volume = vosknown::FieldOnCube(
+    n, [](double x, double y, double z) { return 1.0 - std::sqrt(x * x + y * y + z * z); });
   // 0 outside, tau from 1 - r = 0.4 on: a step (sharpness 1) at the
   // midpoint of [0.38, 0.42].
   vtkNew<vtkPiecewiseFunction> opacity;
@@ -77,15 +68,7 @@ int TestVolumeOnSurfaceClosedSurface(int, char*[])
   vtkNew<vtkRenderer> renderer;
   renderer->AddActor(actor);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(96, 96);
-  window->AddRenderer(renderer);
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->ParallelProjectionOn();
-  camera->SetPosition(0, 0, 5);
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetParallelScale(1.1);
-  renderer->ResetCameraClippingRange();
+  vosknown::ViewFromAbove(window, renderer, 96);
 
   // The largest difference of a cap vertex's 8-bit RGBA from the closed form.
   auto worstOnCap = [&](int& checked)

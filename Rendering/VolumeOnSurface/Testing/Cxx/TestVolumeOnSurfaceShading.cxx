@@ -24,6 +24,7 @@
 #include "vtkVolumeOnSurfaceMapper.h"
 #include "vtkVolumeProperty.h"
 
+#include "VoSKnownAnswer.h"
 #include "avosTestHelpers.h"
 
 #include <algorithm>
@@ -35,18 +36,7 @@ int TestVolumeOnSurfaceShading(int, char*[])
   const int n = 33;
   const double voxel = 2.0 / (n - 1), tau = 0.05, chord = 1.2;
   const double color[3] = { 0.3, 0.4, 0.2 };
-  vtkNew<vtkImageData> volume;
-  volume->SetDimensions(n, n, n);
-  volume->SetOrigin(-1, -1, -1);
-  volume->SetSpacing(voxel, voxel, voxel);
-  volume->AllocateScalars(VTK_DOUBLE, 1);
-  vtkDataArray* scalars = volume->GetPointData()->GetScalars();
-  for (vtkIdType i = 0; i < volume->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    volume->GetPoint(i, p);
-    scalars->SetTuple1(i, 1.0 - p[2]);
-  }
+  const auto volume = vosknown::FieldOnCube(n, [](double, double, double z) { return 1.0 - z; });
   // A step (sharpness 1) at the midpoint of [0.78, 0.82]: s = 0.8.
   vtkNew<vtkPiecewiseFunction> opacity;
   opacity->AddPoint(0.78, 0.0, 0.5, 1.0);
@@ -90,15 +80,7 @@ int TestVolumeOnSurfaceShading(int, char*[])
   renderer->AddLight(key);
   renderer->AddLight(head);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(64, 64);
-  window->AddRenderer(renderer);
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->ParallelProjectionOn();
-  camera->SetPosition(0, 0, 5);
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetParallelScale(1.1);
-  renderer->ResetCameraClippingRange();
+  vosknown::ViewFromAbove(window, renderer, 64);
 
   // The lit colour: n = (0, 0, -1), the viewer and the headlight along +z,
   // the key light along (1, 0, 2) / sqrt 5.
