@@ -92,10 +92,14 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
   return r;
 }
 
-// The unit direction towards the viewer of a ray in grid coordinates.
-glm::dvec3 ToViewer(const FrameMethod& method, const glm::dvec3& direction)
+// The shading of the ray start + t direction (grid coordinates): towards
+// the viewer and the ray itself in world space.
+an::RayShading<double> ShadingOf(
+  const FrameMethod& method, const glm::dvec3& start, const glm::dvec3& direction)
 {
-  return -glm::normalize(method.GridToWorld * direction);
+  const glm::dvec3 worldDirection = method.GridToWorld * direction;
+  return { method.Shading, method.NormalMatrix, -glm::normalize(worldDirection),
+    method.GridToWorld * start + method.GridToWorldOffset, worldDirection };
 }
 
 // Calls f(field) with the ray start + t direction's field (grid coordinates):
@@ -106,9 +110,8 @@ an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method
 {
   if (method.Shading)
   {
-    return f(an::ShadedRayField<double, VolumeT>{ volume, start, direction, method.NormalMatrix,
-      ToViewer(method, direction), *method.Shading,
-      method.GridToWorld * start + method.GridToWorldOffset, method.GridToWorld * direction });
+    return f(an::ShadedRayField<double, VolumeT>{
+      volume, start, direction, ShadingOf(method, start, direction) });
   }
   return f(an::RayField<double, VolumeT>{ volume, start, direction });
 }
@@ -279,11 +282,9 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
     case Integration::Piecewise:
       if (method.Shading)
       {
-        const an::RayShading<double> shading{ method.Shading, method.NormalMatrix,
-          ToViewer(method, direction), method.GridToWorld * origin + method.GridToWorldOffset,
-          method.GridToWorld * direction };
         result = an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
-          segments.size(), *method.Pieces, method.Adaptive.Tolerance, shading, true, steps);
+          segments.size(), *method.Pieces, method.Adaptive.Tolerance,
+          ShadingOf(method, origin, direction), true, steps);
         return;
       }
       // Its cells' and pieces' batches in SIMD lanes (avos/engine/PieceKernels.h).

@@ -209,8 +209,9 @@ TEST(Shading, ShadedIntegralOfALinearFieldMatchesItsClosedForm)
   const double D = t1 - t0;
   const glm::dvec3 start = origin + t0 * direction;
   const glm::dmat3 normalMatrix(1.0); // world = grid here
+  const RayShading<double> rayShading{ &model, normalMatrix, -direction, start, direction };
   const ShadedRayField<double, TrilinearVolume<double, double>> shaded{ volume, start, direction,
-    normalMatrix, -direction, model, start, direction };
+    rayShading };
 
   // The oracle: the colour knots lit by the constant gradient.
   TransferFunction<double> lit;
@@ -230,7 +231,6 @@ TEST(Shading, ShadedIntegralOfALinearFieldMatchesItsClosedForm)
 
   PiecewiseTransferFunction<double> pieces;
   ASSERT_EQ(pieces.Build(tf, 1e-3), "");
-  const RayShading<double> rayShading{ &model, normalMatrix, -direction };
   const Interval<double> whole{ 0.0, D };
   for (double eps : { 1e-2, 1e-3, 1e-4 })
   {

@@ -76,21 +76,6 @@ namespace avos
 namespace numerics
 {
 
-// The shading of one ray: the model, the normal matrix that maps a gradient
-// in the volume's grid coordinates to world space, the unit direction
-// towards the viewer (constant along the ray), and the ray in world space
-// (the sample at t is at WorldOrigin + t WorldDirection; positional lights
-// read it).
-template <typename Real>
-struct RayShading
-{
-  const ShadingModel<Real>* Model = nullptr;
-  glm::mat<3, 3, Real> NormalMatrix{ Real(1) };
-  glm::vec<3, Real> ToViewer{ Real(0), Real(0), Real(1) };
-  glm::vec<3, Real> WorldOrigin{ Real(0) };
-  glm::vec<3, Real> WorldDirection{ Real(0) };
-};
-
 namespace detail
 {
 // The world-space gradient of the trilinear interpolant along the piece `rp`

@@ -517,12 +517,24 @@ void LitColour(const ShadingModel<Real>& model, const T colour[3], const T gradi
     model, colour, detail::GradientComponents<Real, T>{ gradient }, toViewer, position, lit);
 }
 
+// The shading of one ray: the model, the normal matrix that maps a gradient
+// in the volume's grid coordinates to world space, the unit direction
+// towards the viewer (constant along the ray), and the ray in world space
+// (the sample at t is at WorldOrigin + t WorldDirection; positional lights
+// read it).
+template <typename Real>
+struct RayShading
+{
+  const ShadingModel<Real>* Model = nullptr;
+  glm::mat<3, 3, Real> NormalMatrix{ Real(1) };
+  glm::vec<3, Real> ToViewer{ Real(0), Real(0), Real(1) };
+  glm::vec<3, Real> WorldOrigin{ Real(0) };
+  glm::vec<3, Real> WorldDirection{ Real(0) };
+};
+
 // A ray through a trilinear volume whose emission is shaded: the `field`
 // argument of IntegrateRiemann / IntegrateAdaptive (RayIntegrators.h), which
-// call Shade() on every sample's colour. `NormalMatrix` maps a gradient in
-// grid coordinates to world space (the transpose of the world-to-grid
-// matrix's linear part); `ToViewer` is constant along a ray; the sample at
-// t is at WorldOrigin + t WorldDirection in world space.
+// call Shade() on every sample's colour, lit by the ray's `Shading`.
 template <typename Real, typename VolumeT>
 struct ShadedRayField
 {
@@ -531,20 +543,16 @@ struct ShadedRayField
   const VolumeT& Volume;
   Vector Origin;
   Vector Direction;
-  glm::mat<3, 3, Real> NormalMatrix;
-  Vector ToViewer;
-  const ShadingModel<Real>& Model;
-  Vector WorldOrigin;
-  Vector WorldDirection;
+  RayShading<Real> Shading;
 
   Real operator()(Real t) const { return this->Volume(this->Origin + t * this->Direction); }
 
   Vector Shade(Real t, const Vector& color) const
   {
+    const RayShading<Real>& s = this->Shading;
     const Vector gradient =
-      this->NormalMatrix * this->Volume.Gradient(this->Origin + t * this->Direction);
-    return this->Model.Shade(
-      color, gradient, this->ToViewer, this->WorldOrigin + t * this->WorldDirection);
+      s.NormalMatrix * this->Volume.Gradient(this->Origin + t * this->Direction);
+    return s.Model->Shade(color, gradient, s.ToViewer, s.WorldOrigin + t * s.WorldDirection);
   }
 };
 
