@@ -259,8 +259,6 @@ public:
       setup.Method == RayIntegration::Piecewise ? setup.Engine : nullptr);
     if (setup.Shade)
     {
-      // A ray at a time: the SIMD kernels do not shade.
-      m.EngineVolume = nullptr;
       ShadeWith(setup.Shading, setup.GridToWorldMatrix, m);
     }
   }

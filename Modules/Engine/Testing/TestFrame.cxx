@@ -305,6 +305,37 @@ TEST(Frame, RiemannRaysPerLaneMatchTheCore)
   EXPECT_GT(a.Opacity, 0.5);
 }
 
+// Shaded rays take the scalar double sum even where the method gives the
+// kernel's volume (the kernels do not shade): the image is the one cast
+// without it, and the shading shows.
+TEST(Frame, ShadedRiemannRaysTakeTheScalarSum)
+{
+  const Scene scene;
+  const ae::Volume bytes = scene.EngineBytes();
+  ae::TransferTable table;
+  ASSERT_EQ(table.Build(scene.Case.TF), "");
+  an::ShadingModel<double> shading;
+  shading.Lights.push_back(
+    { glm::normalize(glm::dvec3(0.3, 0.5, 0.8)), glm::dvec3(1.0), glm::dvec3(1.0) });
+  ae::FrameMethod method;
+  method.Kind = ae::Integration::Riemann;
+  method.SampleDistance = 0.5;
+  method.TF = &scene.Case.TF;
+  method.Map = &scene.Map;
+  const std::vector<float> unshaded = Cast(scene, scene.Doubles(), method, Serial);
+  method.Shading = &shading;
+  const std::vector<float> scalar = Cast(scene, scene.Doubles(), method, Serial);
+  method.EngineVolume = &bytes;
+  method.EngineTable = &table;
+  EXPECT_EQ(Cast(scene, scene.Doubles(), method, Serial), scalar);
+  float difference = 0.0f;
+  for (std::size_t i = 0; i < scalar.size(); ++i)
+  {
+    difference = std::max(difference, std::abs(scalar[i] - unshaded[i]));
+  }
+  EXPECT_GT(difference, 0.02f);
+}
+
 TEST(Frame, ClippedAdaptiveRaysMatchTheCoreForEveryScalarType)
 {
   Scene scene;

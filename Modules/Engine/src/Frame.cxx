@@ -92,6 +92,13 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
   return r;
 }
 
+// Whether the Riemann sums run in the kernel's float lanes: its volume is
+// given and the rays are not shaded (the kernels do not shade).
+bool RiemannKernel(const FrameMethod& method)
+{
+  return method.EngineVolume && !method.Shading;
+}
+
 // The shading of the ray start + t direction (grid coordinates): towards
 // the viewer and the ray itself in world space.
 an::RayShading<double> ShadingOf(
@@ -154,7 +161,7 @@ void ClippedRiemann(const VolumeT& volume, const FrameMethod& method, const glm:
     const double bound = method.TerminationBound > 0.0 ? method.TerminationBound / T : 0.0;
     const std::size_t recorded = steps ? steps->size() : 0;
     glm::dvec4 rgba;
-    if (method.EngineVolume && !steps)
+    if (RiemannKernel(method) && !steps)
     {
       RayOutput out;
       CastRiemann(*method.EngineVolume, *method.EngineTable, &start.x, &direction.x, D,
@@ -253,7 +260,7 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
   switch (method.Kind)
   {
     case Integration::Riemann:
-      if (method.EngineVolume && !steps)
+      if (RiemannKernel(method) && !steps)
       {
         // The same sum in float SIMD lanes (within 1e-4, avos/engine/Riemann.h).
         RayOutput out;
@@ -407,7 +414,7 @@ public:
   {
     this->TilesX = (frame.Rect[1] - frame.Rect[0] + TileSize - 1) / TileSize;
     const bool lanes = method.Kind == Integration::Riemann
-      ? method.EngineVolume != nullptr
+      ? RiemannKernel(method)
       : method.Kind == Integration::Piecewise && method.PieceTable && !method.Shading;
     this->RaysPerLane = lanes && method.Mode == Blend::Composite && frame.Clip.IsEmpty();
   }

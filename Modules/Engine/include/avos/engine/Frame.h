@@ -114,7 +114,8 @@ struct FrameMethod
   // for the piecewise methods (Piecewise; Reference in the extinction model;
   // the additive projection).
   const numerics::PiecewiseTransferFunction<double>* Pieces = nullptr;
-  // The Riemann kernel's volume and table (null: the scalar sum).
+  // The Riemann kernel's volume and table (null: the scalar sum; shaded
+  // rays take the scalar sum whatever they are: the kernels do not shade).
   const Volume* EngineVolume = nullptr;
   const TransferTable* EngineTable = nullptr;
   // The piecewise method's kernels (their cells read 8- and 16-bit scalars),
