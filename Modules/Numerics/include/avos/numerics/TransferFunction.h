@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -290,6 +291,18 @@ public:
     // so tau is off by 1.1e-16 / UnitDistance at most, and std::log costs a
     // third less per sample than std::log1p here.
     return std::min(-std::log(Real(1) - value), OpaqueExtinction) / this->UnitDistance;
+  }
+
+  // An upper bound of ToExtinction's slope below `value` (it is convex):
+  // infinite at an opacity of 1 in the alpha model.
+  Real ExtinctionSlope(Real value) const
+  {
+    if (this->Model == OpacityModel::Extinction)
+    {
+      return Real(1);
+    }
+    return value < Real(1) ? Real(1) / ((Real(1) - value) * this->UnitDistance)
+                           : std::numeric_limits<Real>::infinity();
   }
 
   // Largest colour component: bounds what the rest of a ray can add.
