@@ -40,6 +40,30 @@ inline double GridToWorld(vtkImageData* image, vtkMatrix4x4* propMatrix, vtkMatr
   }
   return voxel;
 }
+
+/**
+ * The longest segment inside the box of an image's points (grid
+ * coordinates [0, dims - 1]) under `gridToWorld`, in world units: the
+ * longest of its four diagonals (the box's image is a parallelepiped).
+ */
+inline double LongestChord(vtkMatrix4x4* gridToWorld, const int dims[3])
+{
+  const double* m = gridToWorld->GetData();
+  double longest = 0.0;
+  for (int signs = 0; signs < 4; ++signs)
+  {
+    const double d[3] = { (signs & 1 ? -1.0 : 1.0) * std::max(dims[0] - 1, 0),
+      (signs & 2 ? -1.0 : 1.0) * std::max(dims[1] - 1, 0), 1.0 * std::max(dims[2] - 1, 0) };
+    double length = 0.0;
+    for (int r = 0; r < 3; ++r)
+    {
+      const double w = m[4 * r] * d[0] + m[4 * r + 1] * d[1] + m[4 * r + 2] * d[2];
+      length += w * w;
+    }
+    longest = std::max(longest, std::sqrt(length));
+  }
+  return longest;
+}
 }
 
 #endif

@@ -1,15 +1,17 @@
-// VTK's interpolation between two nodes of a colour transfer function, as a
-// function of the scalar x, written once for plain numbers (double) and for
-// enclosures (numerics::Jet<double>): the model with which
+// VTK's interpolation between two nodes of a colour transfer function (or,
+// in channel 0 of RGB space, of a vtkPiecewiseFunction), as a function of
+// the scalar x, written once for plain numbers (double) and for enclosures
+// (numerics::Jet<double>): the model with which
 // avos::TransferFunctionFromProperty certifies the knots it places where
-// VTK's colour is not piecewise linear (numerics::Linearize).
+// VTK's function is not piecewise linear (numerics::Linearize).
 //
-// It follows vtkColorTransferFunction::GetColor (VTK 9.1): the position s in
+// It follows vtkColorTransferFunction::GetColor and
+// vtkPiecewiseFunction::GetValue (VTK 9.1): the position s in
 // [0, 1] between the nodes (in log10 x for a log scale), bent at the
 // midpoint (s < m: 0.5 s / m, else 0.5 + 0.5 (s - m) / (1 - m)); a sharpness
 // below 0.01 then interpolates linearly in that position, one up to 0.99 a
 // Hermite curve of it after the power bend 0.5 (2s)^(1 + 10 sharpness),
-// clamped to [0, 1]; in RGB, in HSV (vtkMath::HSVToRGB's six hue sectors,
+// clamped (Clip); in RGB, in HSV (vtkMath::HSVToRGB's six hue sectors,
 // the hue wrapped below 0), in CIE L*a*b* (vtkMath::LabToRGB: the cube or
 // linear branch, sRGB's gamma, scaling by the largest channel above 1, clip
 // at 0), or in the diverging Msh space (Moreland's polar L*a*b*: through
@@ -48,6 +50,9 @@ struct NodeInterpolation
   // the whole of its ends, u = 2s or 2s - 1).
   double Ends[2][2][3] = {};
   bool Halves = false;
+  // Where a Hermite curve is clamped: [0, 1] for colours, the nodes' range
+  // for a vtkPiecewiseFunction (channel 0 only).
+  double Clip[2] = { 0.0, 1.0 };
 };
 
 namespace interpolation
@@ -338,7 +343,7 @@ void Evaluate(const NodeInterpolation& n, const T& x, T rgb[3])
   {
     for (int c = 0; c < 3; ++c)
     {
-      rgb[c] = ClipAbove(ClipBelow(rgb[c], 0.0), 1.0);
+      rgb[c] = ClipAbove(ClipBelow(rgb[c], n.Clip[0]), n.Clip[1]);
     }
   }
 }

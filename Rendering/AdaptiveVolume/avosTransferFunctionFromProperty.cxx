@@ -307,12 +307,59 @@ Ranges TransparentRanges(vtkPiecewiseFunction* opacity)
   return ranges;
 }
 
-// Knots for a curved colour interval, within `tolerance` of VTK's colours,
-// from its limit at the node to its value at the next (both may differ from
-// the nodes' own colours by the colour-space round trip): each side of the
-// midpoint's scalar xm (where the model has a kink) linearized on its own.
-// False, with nothing added, where the bound cannot be certified. Inside
-// the `transparent` ranges the colour takes one chord.
+// Knots for a modelled interval `n`, from VTK's limit at X1 to its value at
+// X2 (`value(x)`, std::array of Channels, the first channels of the
+// model), each side of the midpoint's scalar xm (where the model has a
+// kink) linearized on its own within `tolerance(enclosure)`, one chord
+// where `exempt`. False, with nothing added, where the bound cannot be
+// certified.
+template <int Channels, typename Tolerance, typename Value, typename Exempt, typename Add>
+bool AddLinearized(const avos::NodeInterpolation& n, double xm, Tolerance&& tolerance,
+  Value&& value, Exempt&& exempt, Add&& add)
+{
+  using Jet = avos::numerics::Jet<double>;
+  auto enclose = [&n](const avos::numerics::Bounds<double>& x)
+  {
+    Jet rgb[3];
+    avos::interpolation::Evaluate(n, Jet::Variable(x), rgb);
+    std::array<Jet, Channels> out;
+    std::copy(rgb, rgb + Channels, out.begin());
+    return out;
+  };
+  // At X1 the limit from the right (VTK gives the node's own colour there,
+  // which the colour-space round trip may move by 1e-4).
+  auto limit = [&](double x) { return value(x == n.X1 ? std::nextafter(n.X1, n.X2) : x); };
+  std::vector<avos::numerics::LinearKnot<double, Channels>> knots;
+  if (!avos::numerics::LinearizeWithin<double, Channels>(
+        n.X1, xm, tolerance, ReferenceSlack, enclose, limit, knots, MaximumKnots, exempt) ||
+    !avos::numerics::LinearizeWithin<double, Channels>(
+      xm, n.X2, tolerance, ReferenceSlack, enclose, limit, knots, MaximumKnots, exempt))
+  {
+    return false;
+  }
+  add(n.X1, limit(n.X1).data());
+  for (const auto& k : knots)
+  {
+    add(k.X, k.Value.data());
+  }
+  return true;
+}
+
+// True on [l, r] inside one of the `transparent` ranges.
+bool Inside(const Ranges& transparent, double l, double r)
+{
+  return std::any_of(transparent.begin(), transparent.end(),
+    [l, r](const std::pair<double, double>& t) { return t.first <= l && r <= t.second; });
+}
+
+// A colour within `tolerance` of VTK's everywhere: its whole error budget.
+auto Within(double tolerance)
+{
+  return [tolerance](const auto&) { return tolerance; };
+}
+
+// A curved colour interval within `tolerance` of VTK's colours (one chord
+// inside the `transparent` ranges).
 template <typename Add>
 bool AddCertifiedInterval(vtkColorTransferFunction* color, int index, double xm, double tolerance,
   const Ranges& transparent, Add&& add)
@@ -322,51 +369,45 @@ bool AddCertifiedInterval(vtkColorTransferFunction* color, int index, double xm,
   {
     return false;
   }
-  using Jet = avos::numerics::Jet<double>;
-  auto enclose = [&n](const avos::numerics::Bounds<double>& x)
-  {
-    Jet rgb[3];
-    avos::interpolation::Evaluate(n, Jet::Variable(x), rgb);
-    return std::array<Jet, 3>{ rgb[0], rgb[1], rgb[2] };
-  };
-  // VTK's colour, at X1 the limit from the right (VTK gives the node's own
-  // colour there, which the conversion round trip may move by 1e-4).
-  auto value = [color, &n](double x)
+  auto value = [color](double x)
   {
     std::array<double, 3> rgb;
-    color->GetColor(x == n.X1 ? std::nextafter(n.X1, n.X2) : x, rgb.data());
+    color->GetColor(x, rgb.data());
     for (double& c : rgb)
     {
       c = ClampRounding(c);
     }
     return rgb;
   };
-  auto exempt = [&transparent](double l, double r)
-  {
-    return std::any_of(transparent.begin(), transparent.end(),
-      [l, r](const std::pair<double, double>& t) { return t.first <= l && r <= t.second; });
-  };
-  std::vector<avos::numerics::LinearKnot<double, 3>> knots;
-  if (!avos::numerics::Linearize(
-        n.X1, xm, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt) ||
-    !avos::numerics::Linearize(
-      xm, n.X2, tolerance, ReferenceSlack, enclose, value, knots, MaximumKnots, exempt))
+  return AddLinearized<3>(
+    n, xm, Within(tolerance), value,
+    [&transparent](double l, double r) { return Inside(transparent, l, r); }, add);
+}
+
+// A curved interval of a piecewise function within `tolerance(enclosure)`
+// of VTK's values (one chord where `exempt`).
+template <typename Tolerance, typename Exempt, typename Add>
+bool AddCertifiedInterval(
+  vtkPiecewiseFunction* f, int index, double xm, Tolerance&& tolerance, Exempt&& exempt, Add&& add)
+{
+  avos::NodeInterpolation n;
+  if (!avos::ModelPiecewiseInterval(f, index, n))
   {
     return false;
   }
-  add(n.X1, value(n.X1).data());
-  for (const auto& k : knots)
-  {
-    add(k.X, k.Value.data());
-  }
-  return true;
+  return AddLinearized<1>(
+    n, xm, tolerance,
+    [f](double x) { return std::array<double, 1>{ ClampRounding(f->GetValue(x)) }; }, exempt, add);
 }
+
 // A vtkPiecewiseFunction (a gray colour or the opacity) as knots, `add(s,
-// value)` each: exact where VTK interpolates piecewise linearly, resampled
-// where it does not; 0 outside the nodes without clamping. Returns why it
-// cannot be used, or an empty string.
-template <typename Add>
-std::string ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximated)
+// value)` each: exact where VTK interpolates piecewise linearly, certified
+// where `certify(index, xm, add)` can, resampled elsewhere; 0 outside the
+// nodes without clamping. Returns why it cannot be used, or an empty
+// string.
+template <typename Add, typename Certify>
+std::string ConvertPiecewise(
+  vtkPiecewiseFunction* f, Add&& add, Certify&& certify, int& approximated)
 {
   auto addValue = [&](double s, const double* v) { add(s, v[0]); };
   const int n = f ? f->GetSize() : 0;
@@ -392,10 +433,14 @@ std::string ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximat
     if (i + 1 < n)
     {
       f->GetNodeValue(i + 1, next);
+      const double xm = MidpointScalar(node[0], next[0], ClampMidpoint(node[2]), logScale);
+      const Shape shape = ShapeOf(node[2], node[3], !logScale);
+      if (shape == Shape::Curved && next[0] > node[0] && certify(i, xm, addValue))
+      {
+        continue;
+      }
       AddInterval<1>(
-        node[0], node + 1, next[0], next + 1,
-        MidpointScalar(node[0], next[0], ClampMidpoint(node[2]), logScale),
-        ShapeOf(node[2], node[3], !logScale), addValue,
+        node[0], node + 1, next[0], next + 1, xm, shape, addValue,
         [f](double s, double* v) { v[0] = f->GetValue(s); }, approximated);
     }
   }
@@ -406,25 +451,42 @@ std::string ConvertPiecewise(vtkPiecewiseFunction* f, Add&& add, int& approximat
   return std::string();
 }
 
-// VTK's colour function as knots: exact where VTK interpolates piecewise
-// linearly, certified within colourTolerance (when positive) where it does
-// not (wherever the opacity is not 0), resampled otherwise. Outside the
-// nodes, what VTK gives there: the end colours, the below- and above-range
-// colours, or black without clamping.
-std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int& approximated,
-  double colourTolerance, int& certified)
+// VTK's gray function as colour knots, as ConvertColor converts colours.
+std::string ConvertGray(vtkPiecewiseFunction* gray, const Ranges& transparent, TransferFunction& tf,
+  avos::ConversionBudget& budget)
 {
+  const std::string error = ConvertPiecewise(
+    gray,
+    [&](double s, double v)
+    {
+      const double g = ClampRounding(v);
+      tf.AddColorKnot(s, g, g, g);
+    },
+    [&](int i, double xm, auto&& add)
+    {
+      const bool certified = budget.Colour > 0.0 &&
+        AddCertifiedInterval(
+          gray, i, xm, Within(budget.Colour),
+          [&transparent](double l, double r) { return Inside(transparent, l, r); }, add);
+      budget.CertifiedColour += certified ? 1 : 0;
+      return certified;
+    },
+    budget.Approximated);
+  return error.empty() ? error : "the gray transfer function " + error;
+}
+
+// VTK's colour function as knots: exact where VTK interpolates piecewise
+// linearly, certified within budget.Colour (when positive) where it does
+// not (wherever the opacity is not 0), resampled otherwise. Outside the
+// nodes, what VTK gives there: the end values, the below- and above-range
+// colours, or black without clamping.
+std::string ConvertColor(
+  vtkVolumeProperty* property, TransferFunction& tf, avos::ConversionBudget& budget)
+{
+  const Ranges transparent = TransparentRanges(property->GetScalarOpacity(0));
   if (property->GetColorChannels(0) == 1)
   {
-    const std::string error = ConvertPiecewise(
-      property->GetGrayTransferFunction(0),
-      [&](double s, double v)
-      {
-        const double g = ClampRounding(v);
-        tf.AddColorKnot(s, g, g, g);
-      },
-      approximated);
-    return error.empty() ? error : "the gray transfer function " + error;
+    return ConvertGray(property->GetGrayTransferFunction(0), transparent, tf, budget);
   }
   vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
   const int n = color ? color->GetSize() : 0;
@@ -448,7 +510,6 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
       knots.push_back({ s, c });
     }
   };
-  const Ranges transparent = TransparentRanges(property->GetScalarOpacity(0));
   const int space = color->GetColorSpace();
   const bool logScale = UsesLogScale(color);
   double first[6], last[6];
@@ -487,15 +548,15 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
       addColour(node[0], next + 1);
       continue;
     }
-    if (shape == Shape::Curved && colourTolerance > 0.0 && next[0] > node[0] &&
-      AddCertifiedInterval(color, i, xm, colourTolerance, transparent, addColour))
+    if (shape == Shape::Curved && budget.Colour > 0.0 && next[0] > node[0] &&
+      AddCertifiedInterval(color, i, xm, budget.Colour, transparent, addColour))
     {
-      ++certified;
+      ++budget.CertifiedColour;
       continue;
     }
     AddInterval<3>(
       node[0], node + 1, next[0], next + 1, xm, shape, addColour,
-      [color](double s, double* rgb) { color->GetColor(s, rgb); }, approximated);
+      [color](double s, double* rgb) { color->GetColor(s, rgb); }, budget.Approximated);
   }
   addColour(last[0], above);
   for (const auto& k : knots)
@@ -505,11 +566,35 @@ std::string ConvertColor(vtkVolumeProperty* property, TransferFunction& tf, int&
   return std::string();
 }
 
-std::string ConvertOpacity(vtkVolumeProperty* property, TransferFunction& tf, int& approximated)
+// VTK's opacity function as knots: exact where VTK interpolates piecewise
+// linearly, certified within budget.Opacity (numerics::ExtinctionBudget:
+// the extinctions `tf`'s opacity model gives, for rays up to LongestRay)
+// where it does not, resampled otherwise.
+std::string ConvertOpacity(
+  vtkVolumeProperty* property, TransferFunction& tf, avos::ConversionBudget& budget)
 {
+  namespace an = avos::numerics;
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  const bool certifying = budget.Opacity > 0.0 && budget.LongestRay > 0.0;
+  const auto share = an::ExtinctionBudget<double>::Within(
+    budget.Opacity, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
+  auto tolerance = [&](const std::array<an::Jet<double>, 1>& f)
+  {
+    return an::ExtinctionChordTolerance(
+      f[0].V, ReferenceSlack, share, [&tf](double v) { return tf.ToExtinction(v); },
+      [&tf](double v) { return tf.ExtinctionSlope(v); });
+  };
   const std::string error = ConvertPiecewise(
-    property->GetScalarOpacity(0),
-    [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); }, approximated);
+    opacity, [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
+    [&](int i, double xm, auto&& add)
+    {
+      const bool certified = certifying &&
+        AddCertifiedInterval(
+          opacity, i, xm, tolerance, [](double, double) { return false; }, add);
+      budget.CertifiedOpacity += certified ? 1 : 0;
+      return certified;
+    },
+    budget.Approximated);
   return error.empty() ? error : "the scalar opacity function " + error;
 }
 
@@ -566,9 +651,52 @@ std::string avos::UnsupportedPropertySettings(
   return std::string();
 }
 
-double avos::IntegrationTolerance(double tolerance, int certifiedIntervals)
+avos::ConversionBudget avos::ConversionBudget::ForTolerance(
+  double tolerance, double gain, double longestRay)
 {
-  return tolerance * (certifiedIntervals > 0 ? 1.0 - ColourShare : 1.0);
+  ConversionBudget budget;
+  budget.ColourGain = std::max(gain, 1.0);
+  budget.Colour = ColourShare * tolerance / budget.ColourGain;
+  budget.Opacity = OpacityShare * tolerance;
+  budget.LongestRay = longestRay;
+  return budget;
+}
+
+bool avos::ConversionBudget::SameAs(const ConversionBudget& other) const
+{
+  return this->Colour == other.Colour && this->Opacity == other.Opacity &&
+    this->LongestRay == other.LongestRay && this->ColourGain == other.ColourGain;
+}
+
+bool avos::ModelPiecewiseInterval(vtkPiecewiseFunction* f, int index, NodeInterpolation& n)
+{
+  if (!f || index < 0 || index + 1 >= f->GetSize())
+  {
+    return false;
+  }
+  double node[4], next[4];
+  f->GetNodeValue(index, node);
+  f->GetNodeValue(index + 1, next);
+  n.X1 = node[0];
+  n.X2 = next[0];
+  n.LogScale = f->GetUseLogScale() != 0;
+  n.Midpoint = ClampMidpoint(node[2]);
+  n.Sharpness = node[3];
+  n.Space = avos::InterpolationSpace::RGB;
+  for (auto& half : n.Ends)
+  {
+    std::fill(half[0], half[0] + 3, node[1]);
+    std::fill(half[1], half[1] + 3, next[1]);
+  }
+  n.Clip[0] = std::min(node[1], next[1]);
+  n.Clip[1] = std::max(node[1], next[1]);
+  return true;
+}
+
+double avos::IntegrationTolerance(double tolerance, const ConversionBudget& budget)
+{
+  return tolerance - (budget.CertifiedColour > 0 ? budget.Colour * budget.ColourGain : 0.0) -
+    (budget.CertifiedOpacity > 0 ? budget.Opacity : 0.0);
 }
 
 std::string avos::ApproximationNotice(int approximatedIntervals)
@@ -578,40 +706,34 @@ std::string avos::ApproximationNotice(int approximatedIntervals)
     return std::string();
   }
   return std::to_string(approximatedIntervals) +
-    " interval(s) of the transfer function (a colour map other than RGB, a sharpness between 0.01 "
-    "and 0.99 or a log scale, outside the piecewise method; a CIEDE2000 colour map, or a Hermite "
-    "or log-scale opacity, in any method) are approximated by 16 linear pieces each, without a "
-    "proven bound: "
-    "the tolerance is not certified there";
+    " interval(s) of the transfer function where VTK does not interpolate linearly (another "
+    "colour space than RGB, a sharpness between 0.01 and 0.99, a log scale) are approximated by "
+    "16 linear pieces each, without a proven bound: the tolerance is not certified there (only "
+    "the piecewise method certifies such intervals, except in the CIEDE2000 colour space and "
+    "for an opacity curve that reaches 1 in VTK's opacity model)";
 }
 
 std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool extinction,
-  double voxel, TransferFunction& tf, int* approximatedIntervals, double colourTolerance,
-  int* certifiedIntervals)
+  double voxel, TransferFunction& tf, ConversionBudget* budget)
 {
   tf = TransferFunction();
   if (!property)
   {
     return "no volume property";
   }
-  int approximated = 0, certified = 0;
-  std::string error = ConvertColor(property, tf, approximated, colourTolerance, certified);
-  if (error.empty())
-  {
-    error = ConvertOpacity(property, tf, approximated);
-  }
-  if (approximatedIntervals)
-  {
-    *approximatedIntervals = approximated;
-  }
-  if (certifiedIntervals)
-  {
-    *certifiedIntervals = certified;
-  }
+  // The opacity model first: the opacity's certification takes its extinction.
   if (!extinction)
   {
     tf.SetOpacityModel(
       avos::numerics::OpacityModel::Alpha, property->GetScalarOpacityUnitDistance(0) / voxel);
+  }
+  ConversionBudget none;
+  ConversionBudget& b = budget ? *budget : none;
+  b.CertifiedColour = b.CertifiedOpacity = b.Approximated = 0;
+  std::string error = ConvertColor(property, tf, b);
+  if (error.empty())
+  {
+    error = ConvertOpacity(property, tf, b);
   }
   if (error.empty())
   {

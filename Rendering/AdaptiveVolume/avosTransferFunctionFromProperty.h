@@ -1,7 +1,8 @@
 // A vtkVolumeProperty's first-component colour and scalar opacity as the
-// numerical core's TransferFunction, shared by the classes that integrate
-// rays (vtkAdaptiveVolumeMapper, the Volume-on-Surface classes). Not wrapped:
-// it speaks the core's types.
+// numerical core's TransferFunction, exactly or within a certified budget,
+// shared by the classes that integrate rays (vtkAdaptiveVolumeMapper, the
+// Volume-on-Surface classes, the GPU mapper). Not wrapped: it speaks the
+// core's types.
 #ifndef avosTransferFunctionFromProperty_h
 #define avosTransferFunctionFromProperty_h
 
@@ -12,11 +13,45 @@
 #include <string> // For std::string
 
 class vtkColorTransferFunction;
+class vtkPiecewiseFunction;
 class vtkVolumeProperty;
 
 namespace avos
 {
 struct NodeInterpolation;
+
+/**
+ * What a conversion may spend of a class's tolerance where VTK's functions
+ * are not piecewise linear (the inputs), and what it did there (the
+ * outputs). With budgets of 0 nothing is certified.
+ */
+struct AVOSRENDERINGADAPTIVEVOLUME_EXPORT ConversionBudget
+{
+  // A colour (or gray) within Colour of VTK's wherever the opacity is not 0:
+  // a pixel then moves by at most Colour (1 - T) <= Colour, its emission's
+  // weights summing to its opacity.
+  double Colour = 0.0;
+  // Every channel of a pixel within Opacity of the one VTK's opacity gives
+  // (numerics::ExtinctionBudget), for rays up to LongestRay voxel units
+  // whose colours are at most ColourGain (the shading's gain, 1 unlit).
+  double Opacity = 0.0;
+  double LongestRay = 0.0;
+  double ColourGain = 1.0;
+  // The intervals certified (of the colour or gray function, of the
+  // opacity) and those approximated without a proven bound.
+  int CertifiedColour = 0;
+  int CertifiedOpacity = 0;
+  int Approximated = 0;
+
+  /**
+   * The piecewise method's shares of its `tolerance`: ColourShare of it for
+   * the colours (divided by `gain`), OpacityShare for the opacity.
+   */
+  static ConversionBudget ForTolerance(double tolerance, double gain, double longestRay);
+
+  /** The inputs are the same (the conversion would be too). */
+  bool SameAs(const ConversionBudget& other) const;
+};
 
 /**
  * Fills `tf` (replacing what it held) and finalizes it. `extinction`: the
@@ -30,23 +65,23 @@ struct NodeInterpolation;
  * the nodes it is VTK's: the end values, the below- and above-range colours,
  * or 0 without clamping. Colours and opacities within 1e-12 of [0, 1] (the
  * rounding of VTK's colour-space conversions) are clamped onto it.
- * With `colourTolerance` > 0, every other colour interval (HSV, Lab or
- * Diverging space, a Hermite curve, a log scale) is linearised within
- * colourTolerance of VTK's colours wherever the opacity is not 0, a proven
- * bound (numerics::Linearize against the model of avosNodeInterpolation.h,
- * checked against GetColor at every knot): `certifiedIntervals` gets their
- * number. What is not certified (no tolerance, the CIEDE2000 space, Hermite
- * or log-scale opacity and gray functions, a tolerance below the 1e-7 jumps
- * of VTK's own L*a*b* conversion, more than 4096 knots per half interval)
- * is resampled with 16 sub-knots per interval, an approximation without a
- * proven bound: `approximatedIntervals` gets the number of such intervals.
+ * Every other interval (HSV, Lab or Diverging space, a Hermite curve, a log
+ * scale) is linearised within the `budget` (a proven bound:
+ * numerics::LinearizeWithin against the model of avosNodeInterpolation.h,
+ * checked against VTK's values at every knot): colours and gray within
+ * budget->Colour wherever the opacity is not 0, the opacity by
+ * numerics::ExtinctionChordTolerance within budget->Opacity. What is not
+ * certified (no budget, the CIEDE2000 space, a tolerance below the 1e-7
+ * jumps of VTK's own L*a*b* conversion, an alpha-model opacity curve that
+ * reaches 1 (its extinction is unbounded there), more than 4096 knots per
+ * half interval) is resampled with 16 sub-knots per interval, an
+ * approximation without a proven bound, counted in budget->Approximated.
  * Returns an empty string, or why the property cannot be used (empty
  * functions, invalid values).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   vtkVolumeProperty* property, bool extinction, double voxel,
-  avos::numerics::TransferFunction<double>& tf, int* approximatedIntervals = nullptr,
-  double colourTolerance = 0.0, int* certifiedIntervals = nullptr);
+  avos::numerics::TransferFunction<double>& tf, ConversionBudget* budget = nullptr);
 
 /**
  * Fills `n` with the model (avosNodeInterpolation.h) of VTK's colour
@@ -58,21 +93,27 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ModelColourInterval(
   vtkColorTransferFunction* color, int index, NodeInterpolation& n);
 
 /**
- * The share of a class's tolerance eps that the colour's conversion may
- * take (`colourTolerance` = ColourShare eps): a colour within delta of
- * VTK's changes a pixel by at most delta (1 - T) <= delta (the emission's
- * weights sum to the ray's opacity), so a class that integrates the
- * converted function to (1 - ColourShare) eps keeps every pixel within eps.
+ * The same for a vtkPiecewiseFunction (a gray or opacity function), in
+ * channel 0 (the other channels hold the same values).
  */
-constexpr double ColourShare = 0.5;
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ModelPiecewiseInterval(
+  vtkPiecewiseFunction* f, int index, NodeInterpolation& n);
 
 /**
- * The tolerance a class integrates to when its colours were converted
- * within ColourShare of `tolerance`: the rest where the conversion certified
- * an interval (`certifiedIntervals` > 0), all of it otherwise.
+ * The shares of a class's tolerance eps that the conversion may take where
+ * it certifies: ColourShare for the colours, OpacityShare for the opacity;
+ * the rays are integrated to the rest (IntegrationTolerance), so every
+ * pixel stays within eps of the integral of VTK's own functions.
+ */
+constexpr double ColourShare = 0.5;
+constexpr double OpacityShare = 0.25;
+
+/**
+ * The tolerance a class integrates to after a conversion within `budget`:
+ * `tolerance` less the shares the conversion certified with.
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT double IntegrationTolerance(
-  double tolerance, int certifiedIntervals);
+  double tolerance, const ConversionBudget& budget);
 
 /**
  * The warning for `approximatedIntervals` intervals TransferFunctionFromProperty

@@ -124,11 +124,10 @@ public:
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
   double ClassifiedVoxel = 0.0;
-  // The colour's conversion tolerance (avos::ColourShare of the piecewise
-  // method's eps, 0 otherwise), and the tolerance the rays are integrated
-  // to: eps less that share where the conversion used it.
-  double ColourTolerance = 0.0;
-  int CertifiedIntervals = 0;
+  // The conversion's budget (avos::ConversionBudget::ForTolerance of the
+  // piecewise method's eps, none otherwise), and the tolerance the rays are
+  // integrated to: eps less the shares the conversion certified with.
+  avos::ConversionBudget Conversion;
   double IntegrationTolerance = 0.0;
   vtkTimeStamp ClassifyTime;
   std::size_t VisibleBlocks = 0;
@@ -492,33 +491,33 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     }
   }
   // Property -> transfer function and block visibility. The piecewise
-  // method's colours are converted within a share of its eps where VTK's
-  // are not piecewise linear, and the rays integrated to the rest; lit, a
-  // colour's error is multiplied by up to the shading's colour gain.
+  // method's colours and opacity are converted within shares of its eps where
+  // VTK's are not piecewise linear, and the rays integrated to the rest; lit,
+  // a colour's error is multiplied by up to the shading's colour gain.
   const double gain = internals.Shade ? std::max(1.0, internals.Shading.ColourGain()) : 1.0;
-  const double colourTolerance = this->IntegrationMethod == PIECEWISE_ADAPTIVE
-    ? avos::ColourShare * this->Tolerance / gain
-    : 0.0;
+  avos::ConversionBudget budget;
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  {
+    budget = avos::ConversionBudget::ForTolerance(this->Tolerance, gain,
+      avos::LongestChord(internals.GridToWorld, internals.Dimensions) / internals.Voxel);
+  }
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime() ||
-    colourTolerance != internals.ColourTolerance)
+    !budget.SameAs(internals.Conversion))
   {
-    int approximated = 0, certified = 0;
-    const std::string error =
-      avos::TransferFunctionFromProperty(property, this->OpacityModel == EXTINCTION_OPACITY,
-        internals.Voxel, internals.TF, &approximated, colourTolerance, &certified);
-    internals.ColourTolerance = colourTolerance;
-    internals.CertifiedIntervals = certified;
+    const std::string error = avos::TransferFunctionFromProperty(
+      property, this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF, &budget);
+    internals.Conversion = budget;
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       internals.PropertyTime = 0;
       return false;
     }
-    if (approximated > 0)
+    if (budget.Approximated > 0)
     {
-      vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
+      vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
     internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();
@@ -527,7 +526,7 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifyTime.Modified();
   }
   internals.IntegrationTolerance =
-    avos::IntegrationTolerance(this->Tolerance, internals.CertifiedIntervals);
+    avos::IntegrationTolerance(this->Tolerance, internals.Conversion);
   return this->UpdatePieces();
 }
 

@@ -234,9 +234,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
     voxel != internals.TFVoxel)
   {
-    int approximated = 0;
+    avos::ConversionBudget budget; // none: the GPU's methods certify no conversion
     error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF, &approximated);
+      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF, &budget);
     internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
@@ -245,9 +245,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     {
       return error;
     }
-    if (approximated > 0)
+    if (budget.Approximated > 0)
     {
-      vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
+      vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
   }
   const std::size_t pieces = internals.TF.GetPieces().size();

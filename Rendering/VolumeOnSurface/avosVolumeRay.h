@@ -152,15 +152,47 @@ struct VolumeRaySetup
     {
       return unlit;
     }
-    // The piecewise method's colours within ColourShare of its eps where
-    // VTK's are not piecewise linear, its rays integrated to the rest; lit,
-    // a colour's error is multiplied by up to the shading's colour gain.
+    const std::string unconverted =
+      this->PrepareTransferFunction(property, extinction, method, tolerance, gridToWorld);
+    if (!unconverted.empty())
+    {
+      return unconverted;
+    }
+    this->Clip = avos::numerics::ClipRegion<double>();
+    const std::string planesError = AddClippingPlanes(planes, gridToWorld->GetData(), this->Clip);
+    if (!planesError.empty())
+    {
+      return planesError;
+    }
+    vtkMatrix4x4::Invert(gridToWorld, inverse);
+    std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
+    std::copy(gridToWorld->GetData(), gridToWorld->GetData() + 16, this->GridToWorldMatrix);
+    this->Method = method;
+    this->SampleDistance = sampleDistance;
+    this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
+    this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
+    return std::string();
+  }
+
+  // The transfer function, its table or pieces for `method`, and the
+  // tolerance the rays are integrated to (Settings.Tolerance): the piecewise
+  // method's colours and opacity are converted within shares of its eps
+  // where VTK's are not piecewise linear, the rays integrated to the rest;
+  // lit, a colour's error is multiplied by up to the shading's colour gain.
+  std::string PrepareTransferFunction(vtkVolumeProperty* property, bool extinction,
+    RayIntegration method, double tolerance, vtkMatrix4x4* gridToWorld)
+  {
     const double gain = this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
-    int certified = 0;
-    const std::string error = TransferFunctionFromProperty(property, extinction, this->Voxel,
-      this->TF, &this->ApproximatedIntervals,
-      method == RayIntegration::Piecewise ? ColourShare * tolerance / gain : 0.0, &certified);
-    const double integration = IntegrationTolerance(tolerance, certified);
+    ConversionBudget budget;
+    if (method == RayIntegration::Piecewise)
+    {
+      budget = ConversionBudget::ForTolerance(
+        tolerance, gain, LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
+    }
+    const std::string error =
+      TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF, &budget);
+    this->ApproximatedIntervals = budget.Approximated;
+    this->Settings.Tolerance = IntegrationTolerance(tolerance, budget);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
@@ -175,28 +207,14 @@ struct VolumeRaySetup
     }
     if (method == RayIntegration::Piecewise)
     {
-      const std::string piecesError =
-        this->Pieces.Build(this->TF, avos::numerics::PiecewiseRelativeError(integration));
+      const std::string piecesError = this->Pieces.Build(
+        this->TF, avos::numerics::PiecewiseRelativeError(this->Settings.Tolerance));
       if (!piecesError.empty())
       {
         return "the piecewise method cannot use this transfer function at tolerance " +
           std::to_string(tolerance) + ": " + piecesError;
       }
     }
-    this->Clip = avos::numerics::ClipRegion<double>();
-    const std::string planesError = AddClippingPlanes(planes, gridToWorld->GetData(), this->Clip);
-    if (!planesError.empty())
-    {
-      return planesError;
-    }
-    vtkMatrix4x4::Invert(gridToWorld, inverse);
-    std::copy(inverse->GetData(), inverse->GetData() + 16, this->WorldToGrid);
-    std::copy(gridToWorld->GetData(), gridToWorld->GetData() + 16, this->GridToWorldMatrix);
-    this->Method = method;
-    this->SampleDistance = sampleDistance;
-    this->Settings.Tolerance = integration;
-    this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
-    this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
     return std::string();
   }
 

@@ -6,11 +6,15 @@
 // nothing is reported approximated; with a colour tolerance, every curved
 // colour interval (HSV, Lab, Diverging, Hermite curves, a log scale) is
 // within it of VTK's colours; without one, or in the CIEDE2000 space, such
-// intervals are reported approximated; outside the nodes the colours and
+// intervals are reported approximated; opacity curves in both opacity
+// models keep the extinction budget's hypothesis and a gray curve its
+// colour budget; outside the nodes the colours and
 // opacities are VTK's (clamped, range colours, none without clamping);
 // VTK's rounding above 1 is clamped, a real excess refused.
 #include "avosNodeInterpolation.h"
 #include "avosTransferFunctionFromProperty.h"
+
+#include "avos/numerics/Linearization.h"
 
 #include "vtkColorTransferFunction.h"
 #include "vtkNew.h"
@@ -76,6 +80,7 @@ struct Case
   vtkNew<vtkPiecewiseFunction> Opacity;
   vtkNew<vtkVolumeProperty> Property;
   TF Function;
+  avos::ConversionBudget Budget;
   int Approximated = -1;
 
   Case()
@@ -84,12 +89,23 @@ struct Case
     this->Property->SetScalarOpacity(this->Opacity);
   }
 
-  std::string Convert()
+  // The extinction model (tau per voxel unit) unless `alpha`, VTK's.
+  std::string Convert(avos::ConversionBudget budget = {}, bool alpha = false)
   {
-    return avos::TransferFunctionFromProperty(
-      this->Property, true, 1.0, this->Function, &this->Approximated);
+    this->Budget = budget;
+    const std::string error = avos::TransferFunctionFromProperty(
+      this->Property, !alpha, 1.0, this->Function, &this->Budget);
+    this->Approximated = this->Budget.Approximated;
+    return error;
   }
 };
+
+avos::ConversionBudget ColourBudget(double tolerance)
+{
+  avos::ConversionBudget b;
+  b.Colour = tolerance;
+  return b;
+}
 } // namespace
 
 int TestTransferFunctionFromProperty(int, char*[])
@@ -201,13 +217,10 @@ int TestTransferFunctionFromProperty(int, char*[])
       const double lo = map.Nodes.front()[0], hi = map.Nodes.back()[0];
       for (double tolerance : { 1e-3, 1e-4, 1e-5 })
       {
-        int certified = 0;
         const std::string name = std::string(map.Name) + " at " + std::to_string(tolerance);
-        Expect(avos::TransferFunctionFromProperty(
-                 c.Property, true, 1.0, c.Function, &c.Approximated, tolerance, &certified)
-                 .empty(),
-          name + " converts");
-        Expect(certified == static_cast<int>(map.Nodes.size()) - 1 && c.Approximated == 0,
+        Expect(c.Convert(ColourBudget(tolerance)).empty(), name + " converts");
+        Expect(c.Budget.CertifiedColour == static_cast<int>(map.Nodes.size()) - 1 &&
+            c.Budget.CertifiedOpacity == 0 && c.Approximated == 0,
           name + ": every interval certified");
         Expect(ColourError(c.Function, c.Colour, lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)) <=
             tolerance,
@@ -225,15 +238,110 @@ int TestTransferFunctionFromProperty(int, char*[])
     c.Colour->SetColorSpaceToLabCIEDE2000();
     c.Colour->AddRGBPoint(0.0, 0.2, 0.3, 0.8);
     c.Colour->AddRGBPoint(10.0, 0.7, 0.0, 0.1);
-    int certified = 0;
-    Expect(avos::TransferFunctionFromProperty(
-             c.Property, true, 1.0, c.Function, &c.Approximated, 1e-3, &certified)
-             .empty() &&
-        certified == 0 && c.Approximated == 1,
+    Expect(
+      c.Convert(ColourBudget(1e-3)).empty() && c.Budget.CertifiedColour == 0 && c.Approximated == 1,
       "CIEDE2000 is reported approximated");
     avos::NodeInterpolation n;
     Expect(!avos::ModelColourInterval(c.Colour, 0, n) && !avos::ModelColourInterval(c.Colour, 1, n),
       "CIEDE2000 is not modelled, and the last node starts no interval");
+  }
+  {
+    // Opacity curves (Hermite, a log scale) in both opacity models, and a
+    // gray Hermite curve: certified within their budgets. The opacity's
+    // converted extinction keeps the extinction budget's hypothesis,
+    // |tau~ - tau| <= Relative min(tau, tau~) + Absolute, at 20,001 scalars
+    // (so every pixel stays within budget.Opacity, ExtinctionBudget); the
+    // gray within budget.Colour of VTK's. An alpha-model curve that reaches
+    // an opacity of 1 cannot be certified: resampled and reported.
+    struct Curve
+    {
+      const char* Name;
+      bool Alpha, Log;
+      std::vector<std::array<double, 4>> Nodes; // x, value, midpoint, sharpness
+      bool Certifiable;
+    };
+    const std::vector<Curve> curves = {
+      { "alpha Hermite", true, false,
+        { { 0, 0, 0.3, 0.5 }, { 40, 0.8, 0.5, 0.2 }, { 100, 0.3, 0.5, 0 } }, true },
+      { "alpha log scale", true, true, { { 1, 0.05, 0.5, 0 }, { 1000, 0.9, 0.5, 0 } }, true },
+      { "alpha Hermite up to 1", true, false, { { 0, 0, 0.5, 0.4 }, { 100, 1.0, 0.5, 0 } }, false },
+      { "extinction Hermite", false, false,
+        { { 0, 0, 0.6, 0.9 }, { 50, 3.0, 0.5, 0.01 }, { 100, 1.0, 0.5, 0 } }, true },
+    };
+    for (const Curve& curve : curves)
+    {
+      Case c;
+      c.Colour->AddRGBPoint(0.0, 0.2, 0.4, 1.0);
+      c.Property->SetScalarOpacityUnitDistance(2.0);
+      c.Opacity->SetUseLogScale(curve.Log);
+      for (const auto& n : curve.Nodes)
+      {
+        c.Opacity->AddPoint(n[0], n[1], n[2], n[3]);
+      }
+      double modelError = 0.0;
+      for (int i = 0; i + 1 < static_cast<int>(curve.Nodes.size()); ++i)
+      {
+        avos::NodeInterpolation n;
+        Expect(
+          avos::ModelPiecewiseInterval(c.Opacity, i, n), std::string(curve.Name) + " modelled");
+        for (int k = 1; k <= 2000; ++k)
+        {
+          const double x = std::min(n.X2, n.X1 + (n.X2 - n.X1) * k / 2000.0);
+          double model[3];
+          avos::interpolation::Evaluate(n, x, model);
+          modelError = std::max(modelError, std::abs(model[0] - c.Opacity->GetValue(x)));
+        }
+      }
+      Expect(modelError < 1e-12, std::string(curve.Name) + ": the model is GetValue");
+      const double lo = curve.Nodes.front()[0], hi = curve.Nodes.back()[0];
+      for (double tolerance : { 1e-2, 1e-3 })
+      {
+        const std::string name = std::string(curve.Name) + " at " + std::to_string(tolerance);
+        const auto budget = avos::ConversionBudget::ForTolerance(tolerance, 1.0, 300.0);
+        Expect(c.Convert(budget, curve.Alpha).empty(), name + " converts");
+        const int intervals = static_cast<int>(curve.Nodes.size()) - 1;
+        if (!curve.Certifiable)
+        {
+          Expect(c.Budget.CertifiedOpacity == 0 && c.Approximated == 1,
+            name + ": reported approximated, not certified");
+          continue;
+        }
+        Expect(c.Budget.CertifiedOpacity == intervals && c.Approximated == 0,
+          name + ": every interval certified");
+        Expect(avos::IntegrationTolerance(tolerance, c.Budget) == tolerance * 0.75,
+          name + ": the rays integrate to the rest of the tolerance");
+        const auto share =
+          avos::numerics::ExtinctionBudget<double>::Within(budget.Opacity, 300.0, 1.0);
+        const TF& f = c.Function;
+        Expect(Largest(lo, hi, {},
+                 [&](double s)
+                 {
+                   const double converted = f.ToExtinction(f.GetOpacityValue(s));
+                   const double exact = f.ToExtinction(c.Opacity->GetValue(s));
+                   return std::abs(converted - exact) -
+                     share.Relative * std::min(converted, exact) - share.Absolute;
+                 }) <= 1e-12,
+          name + ": the extinction within the budget's hypothesis");
+        Expect(f.GetKnotValues().size() < 20000, name + ": a bounded number of knots");
+      }
+      Expect(c.Convert({}, curve.Alpha).empty() &&
+          c.Approximated == static_cast<int>(curve.Nodes.size()) - 1,
+        std::string(curve.Name) + ": resampled and reported without a budget");
+    }
+    // A gray Hermite curve, a colour: within budget.Colour of VTK's gray.
+    Case c;
+    c.Opacity->AddPoint(0.0, 0.3);
+    vtkNew<vtkPiecewiseFunction> gray;
+    gray->AddPoint(0.0, 0.1, 0.3, 0.6);
+    gray->AddPoint(10.0, 0.9);
+    c.Property->SetColor(gray);
+    Expect(
+      c.Convert(ColourBudget(1e-4)).empty() && c.Budget.CertifiedColour == 1 && c.Approximated == 0,
+      "a gray Hermite curve is certified");
+    Expect(
+      Largest(0.0, 10.0, {},
+        [&](double s) { return std::abs(c.Function.GetColor(s)[0] - gray->GetValue(s)); }) <= 1e-4,
+      "the gray within the colour budget of VTK's");
   }
   {
     // The Step space: each interval takes its second node's colour, exactly.
