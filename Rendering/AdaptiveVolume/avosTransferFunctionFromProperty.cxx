@@ -567,17 +567,17 @@ std::string ConvertColor(
 }
 
 // VTK's opacity function as knots: exact where VTK interpolates piecewise
-// linearly, certified within budget.Opacity (numerics::ExtinctionBudget:
-// the extinctions `tf`'s opacity model gives, for rays up to LongestRay)
-// where it does not, resampled otherwise.
+// linearly, certified within `pixel` (numerics::ExtinctionBudget: the
+// extinctions `tf`'s opacity model gives, for rays up to LongestRay) where
+// it does not, resampled otherwise.
 std::string ConvertOpacity(
-  vtkVolumeProperty* property, TransferFunction& tf, avos::ConversionBudget& budget)
+  vtkVolumeProperty* property, double pixel, TransferFunction& tf, avos::ConversionBudget& budget)
 {
   namespace an = avos::numerics;
   vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
-  const bool certifying = budget.Opacity > 0.0 && budget.LongestRay > 0.0;
+  const bool certifying = pixel > 0.0 && budget.LongestRay > 0.0;
   const auto share = an::ExtinctionBudget<double>::Within(
-    budget.Opacity, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
+    pixel, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
   auto tolerance = [&](const std::array<an::Jet<double>, 1>& f)
   {
     return an::ExtinctionChordTolerance(
@@ -695,8 +695,7 @@ bool avos::ModelPiecewiseInterval(vtkPiecewiseFunction* f, int index, NodeInterp
 
 double avos::IntegrationTolerance(double tolerance, const ConversionBudget& budget)
 {
-  return tolerance - (budget.CertifiedColour > 0 ? budget.Colour * budget.ColourGain : 0.0) -
-    (budget.CertifiedOpacity > 0 ? budget.Opacity : 0.0);
+  return tolerance - budget.Spent;
 }
 
 std::string avos::ApproximationNotice(int approximatedIntervals)
@@ -730,11 +729,17 @@ std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool
   ConversionBudget none;
   ConversionBudget& b = budget ? *budget : none;
   b.CertifiedColour = b.CertifiedOpacity = b.Approximated = 0;
+  b.Spent = 0.0;
   std::string error = ConvertColor(property, tf, b);
+  // The opacity takes its share and what the colours left.
+  const double colours = b.Colour * b.ColourGain;
+  b.Spent = b.CertifiedColour > 0 ? colours : 0.0;
+  const double opacity = b.Opacity + colours - b.Spent;
   if (error.empty())
   {
-    error = ConvertOpacity(property, tf, b);
+    error = ConvertOpacity(property, opacity, tf, b);
   }
+  b.Spent += b.CertifiedOpacity > 0 ? opacity : 0.0;
   if (error.empty())
   {
     error = tf.Validate();

@@ -28,12 +28,13 @@ struct NodeInterpolation;
 struct AVOSRENDERINGADAPTIVEVOLUME_EXPORT ConversionBudget
 {
   // A colour (or gray) within Colour of VTK's wherever the opacity is not 0:
-  // a pixel then moves by at most Colour (1 - T) <= Colour, its emission's
-  // weights summing to its opacity.
+  // a pixel then moves by at most Colour G (1 - T) <= Colour G, its
+  // emission's weights summing to its opacity, G = ColourGain.
   double Colour = 0.0;
   // Every channel of a pixel within Opacity of the one VTK's opacity gives
   // (numerics::ExtinctionBudget), for rays up to LongestRay voxel units
-  // whose colours are at most ColourGain (the shading's gain, 1 unlit).
+  // whose colours are at most ColourGain (the shading's gain, 1 unlit); the
+  // opacity also takes the colours' Colour G where they certify nothing.
   double Opacity = 0.0;
   double LongestRay = 0.0;
   double ColourGain = 1.0;
@@ -42,6 +43,9 @@ struct AVOSRENDERINGADAPTIVEVOLUME_EXPORT ConversionBudget
   int CertifiedColour = 0;
   int CertifiedOpacity = 0;
   int Approximated = 0;
+  // The pixel error the certified intervals may cause (at most Colour G +
+  // Opacity): what IntegrationTolerance takes off.
+  double Spent = 0.0;
 
   /**
    * The piecewise method's shares of its `tolerance`: ColourShare of it for
@@ -110,7 +114,7 @@ constexpr double OpacityShare = 0.25;
 
 /**
  * The tolerance a class integrates to after a conversion within `budget`:
- * `tolerance` less the shares the conversion certified with.
+ * `tolerance` less what the conversion spent.
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT double IntegrationTolerance(
   double tolerance, const ConversionBudget& budget);

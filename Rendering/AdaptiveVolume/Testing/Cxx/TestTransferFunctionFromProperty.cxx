@@ -308,10 +308,12 @@ int TestTransferFunctionFromProperty(int, char*[])
         }
         Expect(c.Budget.CertifiedOpacity == intervals && c.Approximated == 0,
           name + ": every interval certified");
-        Expect(avos::IntegrationTolerance(tolerance, c.Budget) == tolerance * 0.75,
+        // The colours are exact: the opacity takes their share too.
+        const double pixel = budget.Opacity + budget.Colour;
+        Expect(
+          std::abs(avos::IntegrationTolerance(tolerance, c.Budget) - (tolerance - pixel)) < 1e-15,
           name + ": the rays integrate to the rest of the tolerance");
-        const auto share =
-          avos::numerics::ExtinctionBudget<double>::Within(budget.Opacity, 300.0, 1.0);
+        const auto share = avos::numerics::ExtinctionBudget<double>::Within(pixel, 300.0, 1.0);
         const TF& f = c.Function;
         Expect(Largest(lo, hi, {},
                  [&](double s)
@@ -342,6 +344,18 @@ int TestTransferFunctionFromProperty(int, char*[])
       Largest(0.0, 10.0, {},
         [&](double s) { return std::abs(c.Function.GetColor(s)[0] - gray->GetValue(s)); }) <= 1e-4,
       "the gray within the colour budget of VTK's");
+    // Curved colours and a curved opacity: each certifies within its own
+    // share, and the rays integrate to the quarter left.
+    Case both;
+    both.Colour->SetColorSpaceToHSV();
+    both.Colour->AddRGBPoint(0.0, 1.0, 0.0, 0.0);
+    both.Colour->AddRGBPoint(10.0, 0.0, 0.0, 1.0);
+    both.Opacity->AddPoint(0.0, 0.0, 0.5, 0.5);
+    both.Opacity->AddPoint(10.0, 0.6);
+    Expect(both.Convert(avos::ConversionBudget::ForTolerance(1e-3, 1.0, 300.0)).empty() &&
+        both.Budget.CertifiedColour == 1 && both.Budget.CertifiedOpacity == 1 &&
+        std::abs(avos::IntegrationTolerance(1e-3, both.Budget) - 0.25e-3) < 1e-15,
+      "colours and opacity certified within their own shares, the rays to the rest");
   }
   {
     // The Step space: each interval takes its second node's colour, exactly.
