@@ -478,7 +478,7 @@ std::string ConvertGray(vtkPiecewiseFunction* gray, const Ranges& transparent, T
 // VTK's colour function as knots: exact where VTK interpolates piecewise
 // linearly, certified within budget.Colour (when positive) where it does
 // not (wherever the opacity is not 0), resampled otherwise. Outside the
-// nodes, what VTK gives there: the end values, the below- and above-range
+// nodes, what VTK gives there: the end colours, the below- and above-range
 // colours, or black without clamping.
 std::string ConvertColor(
   vtkVolumeProperty* property, TransferFunction& tf, avos::ConversionBudget& budget)

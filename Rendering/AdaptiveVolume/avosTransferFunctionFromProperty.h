@@ -105,7 +105,8 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ModelPiecewiseInterval(
 
 /**
  * The shares of a class's tolerance eps that the conversion may take where
- * it certifies: ColourShare for the colours, OpacityShare for the opacity;
+ * it certifies: ColourShare for the colours, OpacityShare for the opacity
+ * (which also takes the colours' share where they certify nothing);
  * the rays are integrated to the rest (IntegrationTolerance), so every
  * pixel stays within eps of the integral of VTK's own functions.
  */
