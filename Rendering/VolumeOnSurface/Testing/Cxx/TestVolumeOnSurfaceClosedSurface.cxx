@@ -10,11 +10,8 @@
 // (transparent black): this test fails with the inverted direction.
 // Vertices with p_z > 0.3 are checked (nearer the silhouette the ray grazes
 // the ball, where the trilinear field's boundary and the chord part most).
-#include "vtkActor.h"
-#include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
-#include "vtkFlyingEdges3D.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -52,21 +49,9 @@ int TestVolumeOnSurfaceClosedSurface(int, char*[])
   property->SetColor(ctf);
   property->SetScalarOpacity(opacity);
 
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(volume);
-  contour->SetValue(0, 1.0 - radius);
-  contour->ComputeNormalsOn();
-  vtkNew<vtkVolumeOnSurfaceMapper> mapper;
-  mapper->SetInputConnection(contour->GetOutputPort());
-  mapper->SetVolumeData(volume);
-  mapper->SetVolumeProperty(property);
-  mapper->ExtinctionOpacityOn();
-  mapper->SetLevelOfDetail(0);
-  mapper->SetTolerance(1e-3);
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
   vtkNew<vtkRenderer> renderer;
-  renderer->AddActor(actor);
+  vtkVolumeOnSurfaceMapper* mapper =
+    vosknown::MapperOnIsosurface(volume, property, 1.0 - radius, renderer);
   vtkNew<vtkRenderWindow> window;
   vosknown::ViewFromAbove(window, renderer, 96);
 

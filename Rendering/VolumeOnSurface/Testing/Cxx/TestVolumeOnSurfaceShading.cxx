@@ -8,11 +8,8 @@
 // opacity 1 - e^{-tau 1.2 / voxel}: the chord from the plane down to z = -1.
 // Changing a light with the camera still recasts the rays; unshaded, the
 // colour is c (1 - e^{...}).
-#include "vtkActor.h"
-#include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
-#include "vtkFlyingEdges3D.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
@@ -55,21 +52,8 @@ int TestVolumeOnSurfaceShading(int, char*[])
   property->SetSpecularPower(power);
   property->ShadeOn();
 
-  vtkNew<vtkFlyingEdges3D> contour;
-  contour->SetInputData(volume);
-  contour->SetValue(0, 0.8);
-  contour->ComputeNormalsOn();
-  vtkNew<vtkVolumeOnSurfaceMapper> mapper;
-  mapper->SetInputConnection(contour->GetOutputPort());
-  mapper->SetVolumeData(volume);
-  mapper->SetVolumeProperty(property);
-  mapper->ExtinctionOpacityOn();
-  mapper->SetLevelOfDetail(0);
-  mapper->SetTolerance(1e-3);
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
   vtkNew<vtkRenderer> renderer;
-  renderer->AddActor(actor);
+  vtkVolumeOnSurfaceMapper* mapper = vosknown::MapperOnIsosurface(volume, property, 0.8, renderer);
   vtkNew<vtkLight> key, head;
   key->SetLightTypeToSceneLight();
   key->SetPosition(1, 0, 2);

@@ -1,16 +1,22 @@
 // The known-answer scenes of the VoS^M* tests: a field sampled on n^3 points
-// over [-1, 1]^3 (double scalars), and a parallel camera looking down -z
-// from +z at it, so that each vertex's ray runs straight down.
+// over [-1, 1]^3 (double scalars), VoS^M* on one of its isosurfaces, and a
+// parallel camera looking down -z from +z at it, so that each vertex's ray
+// runs straight down.
 #ifndef VoSKnownAnswer_h
 #define VoSKnownAnswer_h
 
+#include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
+#include "vtkFlyingEdges3D.h"
 #include "vtkImageData.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
+#include "vtkVolumeOnSurfaceMapper.h"
+#include "vtkVolumeProperty.h"
 
 namespace vosknown
 {
@@ -32,6 +38,28 @@ vtkSmartPointer<vtkImageData> FieldOnCube(int n, F&& field)
     scalars->SetTuple1(i, field(p[0], p[1], p[2]));
   }
   return volume;
+}
+
+// VoS^M* (extinction opacity, the full mesh, eps 1e-3) on the isosurface
+// `isovalue` of `volume` with its normals, an actor of `renderer`.
+inline vtkSmartPointer<vtkVolumeOnSurfaceMapper> MapperOnIsosurface(
+  vtkImageData* volume, vtkVolumeProperty* property, double isovalue, vtkRenderer* renderer)
+{
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(volume);
+  contour->SetValue(0, isovalue);
+  contour->ComputeNormalsOn();
+  auto mapper = vtkSmartPointer<vtkVolumeOnSurfaceMapper>::New();
+  mapper->SetInputConnection(contour->GetOutputPort());
+  mapper->SetVolumeData(volume);
+  mapper->SetVolumeProperty(property);
+  mapper->ExtinctionOpacityOn();
+  mapper->SetLevelOfDetail(0);
+  mapper->SetTolerance(1e-3);
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  renderer->AddActor(actor);
+  return mapper;
 }
 
 // An off-screen size x size window showing `renderer` from +z, parallel,
