@@ -149,16 +149,16 @@ struct NotDeducedType
 template <typename T>
 using NotDeduced = typename NotDeducedType<T>::Type;
 
-// 1 / k for k = 1 .. 47: divisions by small integers become products (the
+// 1 / k for k = 1 .. 63: divisions by small integers become products (the
 // depth polynomial's coefficients, the series' terms).
 template <typename Real>
 struct Reciprocals
 {
-  Real R[48];
+  Real R[64];
   constexpr Reciprocals()
     : R()
   {
-    for (int k = 1; k < 48; ++k)
+    for (int k = 1; k < 64; ++k)
     {
       this->R[k] = Real(1) / Real(k);
     }
@@ -173,6 +173,13 @@ struct PieceDepth
 {
   static constexpr int MaximumDegree = 10;
   Real D[MaximumDegree + 1];
+
+  // theta = 0 (a sum of depths starts there, Add).
+  PieceDepth()
+    : D()
+    , Degree(0)
+  {
+  }
 
   PieceDepth(const Cubic<Real>& q, Real a, Real b, Real c, Real e)
   {
@@ -212,6 +219,20 @@ struct PieceDepth
         }
       }
     }
+  }
+
+  // theta += weight other: the depth of a sum of extinctions (Mixture.h).
+  void Add(const PieceDepth& other, Real weight)
+  {
+    for (int k = this->Degree + 1; k <= other.Degree; ++k)
+    {
+      this->D[k] = Real(0);
+    }
+    for (int k = 0; k <= other.Degree; ++k)
+    {
+      this->D[k] += weight * other.D[k];
+    }
+    this->Degree = std::max(this->Degree, other.Degree);
   }
 
   Real operator()(Real v) const
@@ -260,21 +281,35 @@ Real Magnitude(const Real* theta, int degree, Real h)
 // The most terms of the series on one sub-interval.
 constexpr int MaximumTerms = 40;
 
-// One sub-interval of SeriesIntegral, [v, v + h] with v = 0 after the shift:
+// sum_j |c_j| h^j over the M coefficients c: a bound of |c(w)| on [0, h].
+template <typename Real, int M>
+Real MagnitudeAt(const Real (&c)[M], Real h)
+{
+  Real m = std::abs(c[M - 1]);
+  for (int j = M - 2; j >= 0; --j)
+  {
+    m = std::abs(c[j]) + h * m;
+  }
+  return m;
+}
+
+// One sub-interval of SeriesIntegrals, [v, v + h] with v = 0 after the shift:
 // theta[1..degree] the shifted depth (A = Magnitude(theta, degree, h) <= 1),
-// g[i][0..2] the shifted coefficients of N quadratics g_i. Adds terms of
-// int_0^h g_i e^{-theta} until Ev h max|g_i| (e^A - sum_{k <= N} C_k h^k) is
-// within limit[i] for every i, at most MaximumTerms + 1 of them; sum[i] is
-// the truncated integral. False when they do not settle it.
-template <typename Real, int N>
-bool SubintervalSeries(const Real* theta, int degree, const Real (&g)[N][3], Real h, Real A,
+// g[i][0..M-1] the shifted coefficients of N polynomials g_i of degree below
+// M (M <= 16). Adds terms of int_0^h g_i e^{-theta} until
+// Ev h max|g_i| (e^A - sum_{k <= N} C_k h^k) is within limit[i] for every i,
+// at most MaximumTerms + 1 of them; sum[i] is the truncated integral. False
+// when they do not settle it.
+template <typename Real, int N, int M>
+bool SubintervalSeries(const Real* theta, int degree, const Real (&g)[N][M], Real h, Real A,
   Real Ev, const Real (&limit)[N], Real (&sum)[N])
 {
+  static_assert(M >= 1 && M <= 16, "the reciprocals cover terms of degree up to 63");
   static constexpr Reciprocals<Real> inverse{};
   Real gmax[N];
   for (int i = 0; i < N; ++i)
   {
-    gmax[i] = std::abs(g[i][0]) + h * (std::abs(g[i][1]) + h * std::abs(g[i][2]));
+    gmax[i] = MagnitudeAt(g[i], h);
     sum[i] = Real(0);
   }
   const Real whole = std::exp(A); // the dominating series' sum at h
@@ -299,9 +334,13 @@ bool SubintervalSeries(const Real* theta, int degree, const Real (&g)[N][3], Rea
     const Real tail = std::max(whole - partial, Real(0));
     for (int i = 0; i < N; ++i)
     {
-      sum[i] += term *
-        (g[i][0] * inverse.R[k + 1] +
-          h * (g[i][1] * inverse.R[k + 2] + h * g[i][2] * inverse.R[k + 3]));
+      // int_0^h g_i(w) w^k dw / h^(k + 1) = sum_j g_ij h^j / (k + j + 1).
+      Real moment = g[i][M - 1] * inverse.R[k + M];
+      for (int j = M - 2; j >= 0; --j)
+      {
+        moment = g[i][j] * inverse.R[k + j + 1] + h * moment;
+      }
+      sum[i] += term * moment;
       settled = settled && Ev * h * gmax[i] * tail <= limit[i];
     }
     if (settled)
@@ -339,30 +378,35 @@ bool SubintervalSeries(
   return settled;
 }
 
-// J = int_0^l q'(v) e^{-theta(v)} dv on sub-intervals [v, v + h] where the
-// shifted depth thetas(w) = theta(v + w) - theta(v) has
-// A = sum_j |thetas_j| h^j <= 1. There y = e^{-thetas} is the power series
-// c_0 = 1, (k + 1) c_k+1 = -sum_j j thetas_j c_k+1-j (from y' = -thetas' y),
+// The integrals int_0^l g_i(v) e^{-theta(v)} dv of N polynomials g_i of
+// degree below M (coefficients g[i][0..M-1]), each keeping its sign on
+// [0, l] (the colour integral J's q' on a monotone piece, a mixture's
+// emissions: Mixture.h), on sub-intervals [v, v + h] where the shifted depth
+// thetas(w) = theta(v + w) - theta(v) has A = sum_j |thetas_j| h^j <= 1.
+// There y = e^{-thetas} is the power series c_0 = 1,
+// (k + 1) c_k+1 = -sum_j j thetas_j c_k+1-j (from y' = -thetas' y),
 // dominated term by term by the series C_k of e^{A(w)} (the same recursion on
 // |thetas_j|), whose sum at h is e^A. So truncating y after N terms errs by
-// at most e^A - sum_{k <= N} C_k h^k on [0, h], and the integral of q' times
-// the truncated series, exact, by h max|q'| times that. Terms are added until
-// the sub-interval's share `allowed(E(v), E(v + h), h)` is met; a
-// sub-interval where A > 1 is halved first, and one whose 40 terms do not meet
-// its share is halved and taken again (a term of order k needs at least k / D
-// factors of A(w), D the depth's degree, so after N terms the tail is below
-// sum_{m > N / D} A^m / m!: e / 41! for D = 1, but 0.02 for D = 10); then
-// they grow back by doubling. Accepted and halved sub-intervals are counted as
-// steps in `stats`.
-// The most sub-intervals SeriesIntegral takes on a piece before it gives up
-// (returns NaN); the bound above allows 2^41 for extreme data.
+// at most e^A - sum_{k <= N} C_k h^k on [0, h], and the integral of g_i times
+// the truncated series, exact, by h max|g_i| times that. Terms are added until
+// the sub-interval's share `allowed(E(v), E(v + h), h)` is met for every i; a
+// sub-interval where A > 1 is halved first, and one whose 40 terms do not
+// meet its share is halved and taken again (a term of order k needs at least
+// k / D factors of A(w), D the depth's degree, so after N terms the tail is
+// below sum_{m > N / D} A^m / m!: e / 41! for D = 1, but 0.02 for D = 10);
+// then they grow back by doubling. Accepted and halved sub-intervals are
+// counted as steps in `stats`. False when refused (beyond
+// MaximumSubintervals), `out` undefined.
+// The most sub-intervals SeriesIntegrals takes on a piece before it gives up;
+// the bound above allows 2^41 for extreme data.
 constexpr long MaximumSubintervals = 1L << 16;
 
-template <typename Real, typename Allowed>
-Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
-  const Allowed& allowed, RayStatistics<Real>& stats)
+template <typename Real, int N, int M, typename Allowed>
+bool SeriesIntegrals(const PieceDepth<Real>& depth, const Real (&g)[N][M], Real l, Real El,
+  const Allowed& allowed, RayStatistics<Real>& stats, Real (&out)[N])
 {
-  Real J = Real(0);
+  static constexpr Reciprocals<Real> inverse{};
+  std::fill(out, out + N, Real(0));
   Real v = Real(0), h = l, Ev = Real(1);
   for (long count = 0; v < l; ++count)
   {
@@ -370,22 +414,29 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     {
       // Only data whose cubic's rounding exceeds the transfer function's
       // scale (corner values near 1e100) gets here: reported, not guessed.
-      return std::numeric_limits<Real>::quiet_NaN();
+      return false;
     }
     h = std::min(h, l - v);
     Real theta[PieceDepth<Real>::MaximumDegree + 1];
     std::copy(depth.D, depth.D + depth.Degree + 1, theta);
     ShiftPolynomial(theta, depth.Degree, v);
-    Real g[3] = { q.K[1], Real(2) * q.K[2], Real(3) * q.K[3] }; // q'
-    ShiftPolynomial(g, 2, v);
-    // The rest of J, int_v^l q' e^{-theta}, lies within +-Ev V (theta does
-    // not decrease; V bounds int |q'|): once that is within the rest's
-    // share, the rest is taken as 0. This ends a piece whose transmittance
-    // has run out (Ev = 0 from extreme data) at once, where sub-intervals of
-    // l 2^-40 would take 2^40 steps.
+    Real gs[N][M];
+    for (int i = 0; i < N; ++i)
+    {
+      std::copy(g[i], g[i] + M, gs[i]);
+      ShiftPolynomial(gs[i], M - 1, v);
+    }
+    // The rest of each integral, int_v^l g_i e^{-theta}, lies within
+    // +-Ev V_i (theta does not decrease; V_i bounds int |g_i|): once that is
+    // within the rest's share, the rest is taken as 0. This ends a piece
+    // whose transmittance has run out (Ev = 0 from extreme data) at once,
+    // where sub-intervals of l 2^-40 would take 2^40 steps.
     const Real rest = l - v;
-    const Real variation =
-      rest * (std::abs(g[0]) + rest * (std::abs(g[1]) + rest * std::abs(g[2])));
+    Real variation = Real(0);
+    for (int i = 0; i < N; ++i)
+    {
+      variation = std::max(variation, rest * MagnitudeAt(gs[i], rest));
+    }
     if (Ev * variation <= allowed(Ev, El, rest))
     {
       stats.Accept(rest);
@@ -402,11 +453,20 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
     const Real end = l - v <= h ? l : v + h;
     const Real Eh = end == l ? El : std::exp(-depth(end));
     // Only for extreme data (a depth of 1, or a series that 40 terms do not
-    // settle, within l 2^-40): the proven midpoint of J's bounds on this
-    // sub-interval (see above).
+    // settle, within l 2^-40): each g_i keeps its sign, so its integral lies
+    // between Eh and Ev times int g_i; their midpoint, proven within half the
+    // difference (and the second mean value theorem).
     auto midpoint = [&]()
     {
-      J += (q(end) - q(v)) * (Ev + Eh) / Real(2);
+      for (int i = 0; i < N; ++i)
+      {
+        Real integral = gs[i][M - 1] * inverse.R[M];
+        for (int j = M - 2; j >= 0; --j)
+        {
+          integral = gs[i][j] * inverse.R[j + 1] + h * integral;
+        }
+        out[i] += h * integral * (Ev + Eh) / Real(2);
+      }
       stats.Accept(h);
       v = end;
       Ev = Eh;
@@ -416,8 +476,9 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       midpoint();
       continue;
     }
-    Real sum;
-    if (!SubintervalSeries(theta, depth.Degree, g, h, A, Ev, allowed(Ev, Eh, h), sum))
+    Real limits[N], sums[N];
+    std::fill(limits, limits + N, allowed(Ev, Eh, h));
+    if (!SubintervalSeries(theta, depth.Degree, gs, h, A, Ev, limits, sums))
     {
       if (h > floor)
       {
@@ -430,13 +491,29 @@ Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l,
       }
       continue;
     }
-    J += Ev * sum;
+    for (int i = 0; i < N; ++i)
+    {
+      out[i] += Ev * sums[i];
+    }
     stats.Accept(h);
     v = end;
     Ev = Eh;
     h *= Real(2);
   }
-  return J;
+  return true;
+}
+
+// J = int_0^l q'(v) e^{-theta(v)} dv on a piece where q is monotone
+// (SeriesIntegrals); NaN when refused.
+template <typename Real, typename Allowed>
+Real SeriesIntegral(const PieceDepth<Real>& depth, const Cubic<Real>& q, Real l, Real El,
+  const Allowed& allowed, RayStatistics<Real>& stats)
+{
+  const Real g[1][3] = { { q.K[1], Real(2) * q.K[2], Real(3) * q.K[3] } };
+  Real J[1];
+  return SeriesIntegrals(depth, g, l, El, allowed, stats, J)
+    ? J[0]
+    : std::numeric_limits<Real>::quiet_NaN();
 }
 
 // Empty when the ray origin + t direction over `segments` can be

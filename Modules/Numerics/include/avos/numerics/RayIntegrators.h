@@ -4,7 +4,9 @@
 //   alpha = 1 - exp(-int_0^D tau(s(t)) dt)
 //
 // A ray is any callable `Real field(Real t)` giving the scalar s at distance t
-// (in voxel units) from the ray's entry, t in [0, D], and a TransferFunction.
+// (in voxel units) from the ray's entry, t in [0, D], and a TransferFunction;
+// or a mixture's field giving its components' values and a
+// MixtureTransferFunction (Mixture.h).
 // A field with a member `Shade(t, colour)` (ShadedRayField, Shading.h) lights
 // each sample's colour: the emission is then tau C'(x) with C' in [0, 1].
 // The colour I is premultiplied by opacity (RGB = I, A = alpha), black
@@ -182,13 +184,29 @@ long MaximumAttempts(Real D, const AdaptiveSettings<Real>& settings)
   return static_cast<long>(std::min(3.0 * steps * halvings, 9e18));
 }
 
+// The factor by which the adaptive rule's Simpson estimate |D - S| / 15 is
+// taken for a step whose scalars stay within [lo, hi] (Bracket::EstimateScale):
+// 15 where C or tau jumps inside, 5 where they have a kink, 1 where smooth or
+// where the range is empty or NaN.
+template <typename Real>
+Real SimpsonErrorScale(const TransferFunction<Real>& tf, Real lo, Real hi)
+{
+  if (!(lo == lo && hi == hi && lo < hi))
+  {
+    return Real(1);
+  }
+  return tf.HasJumpIn(lo, hi) ? Real(15) : (tf.HasKnotIn(lo, hi) ? Real(5) : Real(1));
+}
+
 namespace detail
 {
 
-template <typename Real>
+// A sample: the field's value (a scalar, or the components of a mixture,
+// Mixture.h), tau and the colour there.
+template <typename Real, typename Value = Real>
 struct Sample
 {
-  Real Scalar;
+  Value Scalar;
   Real Tau;
   glm::vec<3, Real> Color;
 };
@@ -205,21 +223,30 @@ struct IsShaded<Field, Real,
 {
 };
 
+// The field's value type: Real for a scalar field, a vector for a mixture's.
 template <typename Real, typename Field>
+using ValueOf = std::decay_t<decltype(std::declval<const Field&>()(Real(0)))>;
+
+// Samples the field through `tf`, a TransferFunction or a
+// MixtureTransferFunction (Mixture.h): anything with Classify(value, tau,
+// colour) for the field's values.
+template <typename Real, typename Field, typename Function>
 class Sampler
 {
 public:
-  Sampler(const Field& field, const TransferFunction<Real>& tf, RayStatistics<Real>& stats)
+  using Value = ValueOf<Real, Field>;
+
+  Sampler(const Field& field, const Function& tf, RayStatistics<Real>& stats)
     : F(field)
     , TF(tf)
     , Stats(stats)
   {
   }
 
-  Sample<Real> operator()(Real t) const
+  Sample<Real, Value> operator()(Real t) const
   {
     ++this->Stats.Samples;
-    Sample<Real> sample;
+    Sample<Real, Value> sample;
     sample.Scalar = this->F(t);
     this->TF.Classify(sample.Scalar, sample.Tau, sample.Color);
     if constexpr (IsShaded<Field, Real>::value)
@@ -232,23 +259,55 @@ public:
     return sample;
   }
 
-  const TransferFunction<Real>& GetTransferFunction() const { return this->TF; }
-
 private:
   const Field& F;
-  const TransferFunction<Real>& TF;
+  const Function& TF;
   RayStatistics<Real>& Stats;
 };
+
+// Componentwise minimum, maximum and absolute value of scalars and of mixtures'
+// vectors (std::min's and glm::min's NaN rules are the same: the first
+// argument unless the second compares below it).
+template <typename Real>
+Real Lower(Real a, Real b)
+{
+  return std::min(a, b);
+}
+template <typename Real>
+Real Upper(Real a, Real b)
+{
+  return std::max(a, b);
+}
+template <typename Real>
+Real Absolute(Real a)
+{
+  return std::abs(a);
+}
+template <int N, typename Real>
+glm::vec<N, Real> Lower(const glm::vec<N, Real>& a, const glm::vec<N, Real>& b)
+{
+  return glm::min(a, b);
+}
+template <int N, typename Real>
+glm::vec<N, Real> Upper(const glm::vec<N, Real>& a, const glm::vec<N, Real>& b)
+{
+  return glm::max(a, b);
+}
+template <int N, typename Real>
+glm::vec<N, Real> Absolute(const glm::vec<N, Real>& a)
+{
+  return glm::abs(a);
+}
 
 // Five equidistant samples over [u, u + k]: Simpson on the whole step (S) and
 // on its two halves (D), for both the inner and the outer integral. Halving
 // keeps three samples and takes two new ones.
-template <typename Real>
+template <typename Real, typename Value = Real>
 struct Bracket
 {
   Real U = Real(0);
   Real K = Real(0);
-  Sample<Real> S[5];
+  Sample<Real, Value> S[5];
   Real Scale = Real(0); // EstimateScale's cached value, 0 when unknown
 
   template <typename SamplerT>
@@ -282,27 +341,25 @@ struct Bracket
   // samples, widened by the largest change between neighbours (a non-monotone
   // field can reach past its samples between them) and clipped to the field's
   // known range; a knot at an end of the clipped range is never crossed.
-  // Computed once per set of samples.
-  Real EstimateScale(const TransferFunction<Real>& tf, Real fieldMinimum, Real fieldMaximum)
+  // Computed once per set of samples; a mixture's components each through
+  // their own functions (SimpsonErrorScale).
+  template <typename TF>
+  Real EstimateScale(const TF& tf, Real fieldMinimum, Real fieldMaximum)
   {
     if (this->Scale > Real(0))
     {
       return this->Scale;
     }
-    Real lo = this->S[0].Scalar, hi = lo, spread = Real(0);
+    Value lo = this->S[0].Scalar, hi = lo, spread = Value(Real(0));
     for (int i = 1; i < 5; ++i)
     {
-      lo = std::min(lo, this->S[i].Scalar);
-      hi = std::max(hi, this->S[i].Scalar);
-      spread = std::max(spread, std::abs(this->S[i].Scalar - this->S[i - 1].Scalar));
+      lo = Lower(lo, this->S[i].Scalar);
+      hi = Upper(hi, this->S[i].Scalar);
+      spread = Upper(spread, Absolute(this->S[i].Scalar - this->S[i - 1].Scalar));
     }
-    lo = std::max(lo - spread, fieldMinimum);
-    hi = std::min(hi + spread, fieldMaximum);
-    this->Scale = Real(1);
-    if (lo == lo && hi == hi && lo < hi)
-    {
-      this->Scale = tf.HasJumpIn(lo, hi) ? Real(15) : (tf.HasKnotIn(lo, hi) ? Real(5) : Real(1));
-    }
+    lo = Upper(lo - spread, Value(fieldMinimum));
+    hi = Lower(hi + spread, Value(fieldMaximum));
+    this->Scale = SimpsonErrorScale(tf, lo, hi);
     return this->Scale;
   }
 
@@ -427,8 +484,8 @@ struct StepControl
 // Algorithm 2's inner loop: halve the step until error(bracket) is at most
 // tolerance * K, or K has reached h_min. Returns true when the step is forced
 // (taken at h_min although its estimate fails).
-template <typename Real, typename SamplerT, typename Error>
-bool Refine(Bracket<Real>& bracket, const SamplerT& sample, StepControl<Real>& control,
+template <typename Real, typename Value, typename SamplerT, typename Error>
+bool Refine(Bracket<Real, Value>& bracket, const SamplerT& sample, StepControl<Real>& control,
   Real tolerance, RayStatistics<Real>& stats, Error error)
 {
   for (;;)
@@ -448,8 +505,8 @@ bool Refine(Bracket<Real>& bracket, const SamplerT& sample, StepControl<Real>& c
 }
 
 // Empty when the transfer function, the ray length and the step are usable.
-template <typename Real>
-std::string ValidateRay(const TransferFunction<Real>& tf, Real D, Real h)
+template <typename Real, typename TF>
+std::string ValidateRay(const TF& tf, Real D, Real h)
 {
   std::string error = tf.Validate();
   if (error.empty() && (!(h > Real(0)) || !std::isfinite(h)))
@@ -528,10 +585,10 @@ Real TotalLength(const Interval<Real>* segments, std::size_t count)
 // segments, only the samples inside them are taken: since tau = 0 elsewhere,
 // the result is exactly that of the full sum. The ray stops once what is left
 // can change no channel by more than `terminationBound` (0: never).
-template <typename Real, typename Field>
-RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real>& tf, Real D,
-  Real h, RiemannForm form, const Interval<Real>* segments, std::size_t count,
-  Real terminationBound = Real(0), std::vector<StepRecord<Real>>* steps = nullptr)
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateRiemann(const Field& field, const TF& tf, Real D, Real h, RiemannForm form,
+  const Interval<Real>* segments, std::size_t count, Real terminationBound = Real(0),
+  std::vector<StepRecord<Real>>* steps = nullptr)
 {
   RayResult<Real> result;
   result.Statistics.Steps = steps;
@@ -544,7 +601,7 @@ RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real
   {
     return result;
   }
-  detail::Sampler<Real, Field> sample(field, tf, result.Statistics);
+  const detail::Sampler<Real, Field, TF> sample(field, tf, result.Statistics);
   const Real bound = terminationBound / std::max(Real(1), tf.GetMaximumColor());
   glm::vec<3, Real> color(Real(0));
   Real T = Real(1);
@@ -563,7 +620,7 @@ RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real
       }
       const Real t0 = Real(next - 1) * h;
       const Real dt = t1 - t0;
-      const detail::Sample<Real> s = sample(t1);
+      const auto s = sample(t1);
       const Real a =
         form == RiemannForm::Linear ? std::min(s.Tau * dt, Real(1)) : -std::expm1(-s.Tau * dt);
       color += T * a * s.Color;
@@ -581,17 +638,15 @@ RayResult<Real> IntegrateRiemann(const Field& field, const TransferFunction<Real
   return result;
 }
 
-template <typename Real, typename Field>
-RayResult<Real> IntegrateRiemann(
-  const Field& field, const TransferFunction<Real>& tf, Real D, Real h, RiemannForm form)
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateRiemann(const Field& field, const TF& tf, Real D, Real h, RiemannForm form)
 {
   const Interval<Real> whole{ Real(0), std::isfinite(D) && D > Real(0) ? D : Real(0) };
   return IntegrateRiemann(field, tf, D, h, form, &whole, 1);
 }
 
-template <typename Real, typename Field>
-RayResult<Real> IntegrateSimpson(
-  const Field& field, const TransferFunction<Real>& tf, Real D, Real h)
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateSimpson(const Field& field, const TF& tf, Real D, Real h)
 {
   RayResult<Real> result;
   result.Error = detail::ValidateRay(tf, D, h);
@@ -599,10 +654,10 @@ RayResult<Real> IntegrateSimpson(
   {
     return result;
   }
-  detail::Sampler<Real, Field> sample(field, tf, result.Statistics);
+  const detail::Sampler<Real, Field, TF> sample(field, tf, result.Statistics);
   const long n = static_cast<long>(std::ceil(double(D) / double(h)));
   const Real k = D / Real(n);
-  detail::Bracket<Real> b;
+  detail::Bracket<Real, detail::ValueOf<Real, Field>> b;
   b.S[0] = sample(Real(0));
   glm::vec<3, Real> color(Real(0));
   Real theta = Real(0);
@@ -630,9 +685,9 @@ RayResult<Real> IntegrateSimpson(
 // With segments, the tolerance per unit length is spread over their total
 // length L (so the bound on the whole ray is unchanged) and the step sizes
 // carry over from one segment to the next.
-template <typename Real, typename Field>
-RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Real>& tf,
-  const Interval<Real>* segments, std::size_t count, const AdaptiveSettings<Real>& settings,
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateAdaptive(const Field& field, const TF& tf, const Interval<Real>* segments,
+  std::size_t count, const AdaptiveSettings<Real>& settings,
   std::vector<StepRecord<Real>>* steps = nullptr)
 {
   RayResult<Real> result;
@@ -652,7 +707,8 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
     return result;
   }
   RayStatistics<Real>& stats = result.Statistics;
-  detail::Sampler<Real, Field> sample(field, tf, stats);
+  const detail::Sampler<Real, Field, TF> sample(field, tf, stats);
+  using Bracket = detail::Bracket<Real, detail::ValueOf<Real, Field>>;
 
   // h_min of at least 8 ulp of the ray's far end: t + h > t everywhere.
   const Real hmin = std::max(
@@ -670,8 +726,8 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
   detail::StepControl<Real> inner{ h0, hmin, hmax };
   detail::StepControl<Real> outer{ h0, hmin, hmax };
 
-  detail::Bracket<Real> in;
-  detail::Bracket<Real> out;
+  Bracket in;
+  Bracket out;
   glm::vec<3, Real> color(Real(0));
   Real theta = Real(0);
   for (std::size_t j = 0; j < count && !stats.Terminated; ++j)
@@ -688,9 +744,9 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
       const Real T = std::exp(-theta);
       const Real remaining = D - t;
       in.Fill(sample, t, std::min(inner.H, remaining));
-      typename detail::Bracket<Real>::template Pair<Real> innerPair;
+      typename Bracket::template Pair<Real> innerPair;
       const bool innerForced = detail::Refine(in, sample, inner, innerTolerance, stats,
-        [&](detail::Bracket<Real>& b)
+        [&](Bracket& b)
         {
           innerPair = b.Inner();
           return T * b.EstimateScale(tf, fieldMinimum, fieldMaximum) *
@@ -738,9 +794,9 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
           {
             out.Fill(sample, u, k);
           }
-          typename detail::Bracket<Real>::template Pair<glm::vec<3, Real>> outerPair;
+          typename Bracket::template Pair<glm::vec<3, Real>> outerPair;
           const bool outerForced = detail::Refine(out, sample, outer, outerTolerance, stats,
-            [&](detail::Bracket<Real>& b)
+            [&](Bracket& b)
             {
               outerPair = b.Outer(thetaU);
               return b.EstimateScale(tf, fieldMinimum, fieldMaximum) *
@@ -789,8 +845,8 @@ RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Rea
   return result;
 }
 
-template <typename Real, typename Field>
-RayResult<Real> IntegrateAdaptive(const Field& field, const TransferFunction<Real>& tf, Real D,
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateAdaptive(const Field& field, const TF& tf, Real D,
   const AdaptiveSettings<Real>& settings, std::vector<StepRecord<Real>>* steps = nullptr)
 {
   if (!(D >= Real(0)) || !std::isfinite(D))
@@ -819,15 +875,15 @@ AdaptiveSettings<Real> ReferenceSettings()
   return settings;
 }
 
-template <typename Real, typename Field>
-RayResult<Real> IntegrateReference(const Field& field, const TransferFunction<Real>& tf,
-  const Interval<Real>* segments, std::size_t count)
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateReference(
+  const Field& field, const TF& tf, const Interval<Real>* segments, std::size_t count)
 {
   return IntegrateAdaptive(field, tf, segments, count, ReferenceSettings<Real>());
 }
 
-template <typename Real, typename Field>
-RayResult<Real> IntegrateReference(const Field& field, const TransferFunction<Real>& tf, Real D)
+template <typename Real, typename Field, typename TF>
+RayResult<Real> IntegrateReference(const Field& field, const TF& tf, Real D)
 {
   return IntegrateAdaptive(field, tf, D, ReferenceSettings<Real>());
 }

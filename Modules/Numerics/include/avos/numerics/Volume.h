@@ -51,14 +51,17 @@ class TrilinearVolume
 public:
   using Point = glm::vec<3, Real>;
 
-  // `dimensions` must be at least 2 on every axis; `data` is x fastest.
-  TrilinearVolume(const Storage* data, const int dimensions[3])
+  // `dimensions` must be at least 2 on every axis; `data` is x fastest, a
+  // value every `stride` entries (one component of interleaved tuples, read
+  // in place: `data` points at the component in the first tuple).
+  TrilinearVolume(const Storage* data, const int dimensions[3], int stride = 1)
     : Data(data)
     , Nx(dimensions[0])
     , Ny(dimensions[1])
     , Nz(dimensions[2])
-    , Sy(static_cast<std::ptrdiff_t>(dimensions[0]))
-    , Sz(static_cast<std::ptrdiff_t>(dimensions[0]) * dimensions[1])
+    , Sx(stride)
+    , Sy(static_cast<std::ptrdiff_t>(dimensions[0]) * stride)
+    , Sz(static_cast<std::ptrdiff_t>(dimensions[0]) * dimensions[1] * stride)
   {
   }
 
@@ -109,21 +112,22 @@ public:
   // grid point (i + a, j + b, k + c).
   void GetCorners(int i, int j, int k, Real c[8]) const
   {
-    const Storage* p = this->Data + i + j * this->Sy + k * this->Sz;
+    const std::ptrdiff_t x = this->Sx, y = this->Sy, z = this->Sz;
+    const Storage* p = this->Data + i * x + j * y + k * z;
     c[0] = Real(p[0]);
-    c[1] = Real(p[1]);
-    c[2] = Real(p[this->Sy]);
-    c[3] = Real(p[this->Sy + 1]);
-    c[4] = Real(p[this->Sz]);
-    c[5] = Real(p[this->Sz + 1]);
-    c[6] = Real(p[this->Sz + this->Sy]);
-    c[7] = Real(p[this->Sz + this->Sy + 1]);
+    c[1] = Real(p[x]);
+    c[2] = Real(p[y]);
+    c[3] = Real(p[y + x]);
+    c[4] = Real(p[z]);
+    c[5] = Real(p[z + x]);
+    c[6] = Real(p[z + y]);
+    c[7] = Real(p[z + y + x]);
   }
 
 private:
   const Storage* Data;
   int Nx, Ny, Nz;
-  std::ptrdiff_t Sy, Sz;
+  std::ptrdiff_t Sx, Sy, Sz;
 };
 
 // A field constant on each cell of its own walk grid: VTK's cell scalars
@@ -148,8 +152,10 @@ public:
     NearestPoints // `data` has n values per axis, x fastest
   };
 
-  // `pointDimensions` (n per axis) must be at least 2 on every axis.
-  CellConstantVolume(const Storage* data, const int pointDimensions[3], Layout layout)
+  // `pointDimensions` (n per axis) must be at least 2 on every axis; a value
+  // every `stride` entries of `data` (as TrilinearVolume's).
+  CellConstantVolume(
+    const Storage* data, const int pointDimensions[3], Layout layout, int stride = 1)
     : Data(data)
     , Refine(layout == Layout::NearestPoints ? 2 : 1)
   {
@@ -160,8 +166,9 @@ public:
     }
     const std::ptrdiff_t nx = layout == Layout::Cells ? pointDimensions[0] - 1 : pointDimensions[0];
     const std::ptrdiff_t ny = layout == Layout::Cells ? pointDimensions[1] - 1 : pointDimensions[1];
-    this->Sy = nx;
-    this->Sz = nx * ny;
+    this->Sx = stride;
+    this->Sy = nx * stride;
+    this->Sz = nx * ny * stride;
   }
 
   // Point-grid coordinates (a position or a direction) to the walk grid's.
@@ -198,13 +205,15 @@ private:
   Real Value(int i, int j, int k) const
   {
     const int r = this->Refine - 1;
-    return Real(this->Data[((i + r) >> r) + ((j + r) >> r) * this->Sy + ((k + r) >> r) * this->Sz]);
+    return Real(
+      this
+        ->Data[((i + r) >> r) * this->Sx + ((j + r) >> r) * this->Sy + ((k + r) >> r) * this->Sz]);
   }
 
   const Storage* Data;
   int Refine;
   int N[3] = { 0, 0, 0 };
-  std::ptrdiff_t Sy = 0, Sz = 0;
+  std::ptrdiff_t Sx = 1, Sy = 0, Sz = 0;
 };
 
 // Cell scalars read as VTK's GPU mapper reads them with linear
@@ -221,9 +230,10 @@ class CellCentredVolume
 public:
   using Point = glm::vec<3, Real>;
 
-  // `data` has (n - 1) values per axis, x fastest; `pointDimensions` (n per
-  // axis) must be at least 2 on every axis.
-  CellCentredVolume(const Storage* data, const int pointDimensions[3])
+  // `data` has (n - 1) values per axis, x fastest, a value every `stride`
+  // entries (as TrilinearVolume's); `pointDimensions` (n per axis) must be
+  // at least 2 on every axis.
+  CellCentredVolume(const Storage* data, const int pointDimensions[3], int stride = 1)
     : Data(data)
   {
     for (int a = 0; a < 3; ++a)
@@ -231,8 +241,9 @@ public:
       this->Cells[a] = pointDimensions[a] - 1;
       this->N[a] = 2 * pointDimensions[a] - 1;
     }
-    this->Sy = this->Cells[0];
-    this->Sz = static_cast<std::ptrdiff_t>(this->Cells[0]) * this->Cells[1];
+    this->Sx = stride;
+    this->Sy = static_cast<std::ptrdiff_t>(this->Cells[0]) * stride;
+    this->Sz = static_cast<std::ptrdiff_t>(this->Cells[0]) * this->Cells[1] * stride;
   }
 
   Point ToWalk(const Point& p) const { return p * Real(2); }
@@ -274,7 +285,7 @@ public:
         {
           for (int x = 0; x < 2; ++x)
           {
-            sum += Real(this->Data[(x ? hi : lo)[0][a] + (y ? hi : lo)[1][b] * this->Sy +
+            sum += Real(this->Data[(x ? hi : lo)[0][a] * this->Sx + (y ? hi : lo)[1][b] * this->Sy +
               (z ? hi : lo)[2][d] * this->Sz]);
           }
         }
@@ -309,7 +320,7 @@ private:
   const Storage* Data;
   int Cells[3] = { 0, 0, 0 };
   int N[3] = { 0, 0, 0 };
-  std::ptrdiff_t Sy = 0, Sz = 0;
+  std::ptrdiff_t Sx = 1, Sy = 0, Sz = 0;
 };
 
 // Clips the ray start + t step, t in [t0, t1], to the grid's box
@@ -353,7 +364,8 @@ bool ClipToGrid(const glm::vec<3, Real>& start, const glm::vec<3, Real>& step,
 }
 
 // The scalar along the ray origin + t direction, t in voxel units: the
-// `field` argument of the evaluators in RayIntegrators.h.
+// `field` argument of the evaluators in RayIntegrators.h (a mixture's
+// components' values through ComponentVolumes, Mixture.h).
 template <typename Real, typename VolumeT>
 struct RayField
 {
@@ -361,7 +373,7 @@ struct RayField
   glm::vec<3, Real> Origin;
   glm::vec<3, Real> Direction;
 
-  Real operator()(Real t) const { return this->Volume(this->Origin + t * this->Direction); }
+  auto operator()(Real t) const { return this->Volume(this->Origin + t * this->Direction); }
 };
 
 } // namespace numerics

@@ -1,0 +1,877 @@
+// Volumes of several components (VTK's independent and dependent components)
+// as one emission-absorption medium, integrated by every method.
+//
+// The medium. Each component's scalar s_k is read from its own interleaved
+// array in place (ComponentVolumes) and interpolated as a single component
+// would be. With independent components each is a medium of its own with
+// its own transfer function (tau_k, C_k) and weight w_k >= 0, and the
+// volume is their mixture:
+//   tau = sum_k w_k tau_k(s_k),   emission = sum_k w_k tau_k(s_k) C_k(s_k),
+// so a ray sees the sum of the components' extinctions and of their
+// emissions (densities add), its colour at a point the components' colours
+// weighted by their shares of the extinction. Dependent components are one
+// medium: with two, the colour function of s_0 and the opacity function of
+// s_1 (ColourOpacity); with four, the colour (s_0, s_1, s_2) times a scale
+// (1 / 255 for unsigned char) and the opacity function of s_3 (RGBOpacity).
+// How this relates to VTK's mappers (which combine per sample) is stated in
+// vtkAdaptiveVolumeMapper.h.
+//
+// The piecewise method (IntegratePiecewiseMixture). Inside a cell each
+// component's scalar is a cubic along the ray (Pieces.h), each transfer
+// function linear between its knots, so cutting the ray at every used
+// component's knot crossings and at the extrema of its cubic leaves pieces
+// on which the extinction is a polynomial of degree at most 3 (9 in VTK's
+// alpha model: Pieces.h's cubic in s) and each emission one of degree at
+// most 12, every cubic monotone. Then on a piece [0, l] (transmittance Ta
+// in front, theta the exact depth, PieceDepth summed over the terms):
+// - one visible term (the others transparent there, every dependent
+//   mixture): the emission is tau C with theta' = tau (the weight cancels),
+//   so by parts int tau C e^{-theta} = C(0) - C(l) e^{-theta(l)} +
+//   sum_c b_c J_c with J_c = int x_c' e^{-theta}, x_c the cubic the colour
+//   channel c is linear in (slope b_c): IntegratePiecewise's closed form
+//   and proven remainder, with up to three sources;
+// - several visible terms: int E_c e^{-theta} for the emission polynomials
+//   E_c >= 0: within [e^{-theta(l)}, 1] int E_c, whose midpoint errs by at
+//   most (1 - e^{-theta(l)}) int E_c / 2, or else the power series of
+//   e^{-theta} on sub-intervals with a proven tail (SeriesIntegrals).
+// The tolerance eps is split as IntegratePiecewise's: 0.6 eps for these
+// remainders (a sub-interval's share (Ta dT + h / L) / 2 of it, summing to
+// at most 0.6 eps over the ray), 0.15 eps for early termination, 0.25 eps for
+// VTK's alpha model (each term's extinction within a relative eps / 8, hence
+// their sum and every emission too). A component with a NaN corner gives
+// nothing in that cell (its term is left out; a dependent mixture's cell is
+// then empty); the sampled methods agree, NaN samples being transparent.
+//
+// Termination: a ray crosses at most nx + ny + nz cells; each cell's cuts
+// are its extrema (2 per cubic) and knot crossings (at most 3 (m_k + 1) per
+// function, PieceWalk's bound), each found in at most 128 iterations; each
+// piece's remainder takes at most MaximumSubintervals sub-intervals of at
+// most 41 series terms (SeriesIntegrals), or the ray reports an error.
+#ifndef avos_numerics_Mixture_h
+#define avos_numerics_Mixture_h
+
+#include "avos/numerics/PiecewiseIntegrator.h"
+#include "avos/numerics/RayIntegrators.h"
+#include "avos/numerics/TransferFunction.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+constexpr int MaximumComponents = 4;
+
+// How the components make the medium (see above).
+enum class ComponentMix
+{
+  Independent,   // 1 to 4 components, each its own transfer function and weight
+  ColourOpacity, // 2 components: the colour of s_0, the opacity of s_1
+  RGBOpacity     // 4 components: the colour (s_0, s_1, s_2) scale, the opacity of s_3
+};
+
+// The components' transfer functions and how they mix, for the sampled
+// methods (IntegrateRiemann, IntegrateAdaptive, IntegrateReference): what
+// they take in place of a TransferFunction for fields of a mixture's values
+// (RayField over ComponentVolumes). The functions are the caller's, alive
+// while this is used.
+template <typename Real>
+class MixtureTransferFunction
+{
+public:
+  using Color = glm::vec<3, Real>;
+  using Values = glm::vec<MaximumComponents, Real>;
+
+  // `count` components, component k through functions[k] with weight
+  // weights[k].
+  void SetIndependent(
+    int count, const TransferFunction<Real>* const functions[], const Real weights[])
+  {
+    this->Mix = ComponentMix::Independent;
+    this->Count = count;
+    for (int k = 0; k < MaximumComponents; ++k)
+    {
+      this->Functions[k] = k < count ? functions[k] : nullptr;
+      this->Weights[k] = k < count ? weights[k] : Real(0);
+    }
+  }
+
+  // Two components: the colour of `tf` at s_0, its opacity at s_1.
+  void SetColourOpacity(const TransferFunction<Real>& tf) { this->SetDependent(2, tf, Real(0)); }
+
+  // Four components: the colour (s_0, s_1, s_2) scale, which the caller keeps
+  // within [0, 1] (unsigned char data, scale 1 / 255); the opacity of `tf`
+  // at s_3.
+  void SetRGBOpacity(const TransferFunction<Real>& tf, Real scale)
+  {
+    this->SetDependent(4, tf, scale);
+  }
+
+  ComponentMix GetMix() const { return this->Mix; }
+  int GetNumberOfComponents() const { return this->Count; }
+  Real GetWeight(int k) const { return this->Weights[k]; }
+  Real GetScale() const { return this->Scale; }
+  // Component k's function (independent), or the one function (dependent,
+  // any k).
+  const TransferFunction<Real>& GetFunction(int k) const
+  {
+    return this->Mix == ComponentMix::Independent ? *this->Functions[k] : *this->Functions[0];
+  }
+
+  // Empty when usable; otherwise what is wrong.
+  std::string Validate() const
+  {
+    const int wanted = this->Mix == ComponentMix::Independent
+      ? this->Count
+      : (this->Mix == ComponentMix::ColourOpacity ? 2 : 4);
+    if (this->Count < 1 || this->Count > MaximumComponents || this->Count != wanted)
+    {
+      return "a mixture takes 1 to 4 independent components, 2 (colour and opacity) or 4 (RGB "
+             "and opacity) dependent ones";
+    }
+    const int functions = this->Mix == ComponentMix::Independent ? this->Count : 1;
+    for (int k = 0; k < functions; ++k)
+    {
+      if (!this->Functions[k])
+      {
+        return "a component has no transfer function";
+      }
+      if (!(this->Weights[k] >= Real(0)) || !std::isfinite(this->Weights[k]))
+      {
+        return "component weights must be finite and non-negative";
+      }
+      const std::string error = this->Functions[k]->Validate();
+      if (!error.empty())
+      {
+        return error;
+      }
+    }
+    if (this->Mix == ComponentMix::RGBOpacity && !(this->Scale > Real(0) && this->Scale <= Real(1)))
+    {
+      return "the colour scale of RGB components must be in (0, 1]";
+    }
+    return std::string();
+  }
+
+  // tau and the colour of the medium at the components' values s (the
+  // emission is tau colour).
+  void Classify(const Values& s, Real& tau, Color& colour) const
+  {
+    tau = Real(0);
+    colour = Color(Real(0));
+    if (this->Mix == ComponentMix::Independent)
+    {
+      Color emission(Real(0));
+      for (int k = 0; k < this->Count; ++k)
+      {
+        if (this->Weights[k] > Real(0))
+        {
+          Real t;
+          Color c;
+          this->Functions[k]->Classify(s[k], t, c);
+          tau += this->Weights[k] * t;
+          emission += (this->Weights[k] * t) * c;
+        }
+      }
+      if (tau > Real(0))
+      {
+        colour = emission / tau;
+      }
+      return;
+    }
+    const TransferFunction<Real>& tf = *this->Functions[0];
+    if (this->Mix == ComponentMix::ColourOpacity)
+    {
+      if (!std::isnan(s[0]))
+      {
+        tau = tf.GetExtinction(s[1]);
+        colour = tf.GetColor(s[0]);
+      }
+      return;
+    }
+    const Color rgb = Color(s[0], s[1], s[2]) * this->Scale;
+    if (!std::isnan(rgb[0] + rgb[1] + rgb[2]))
+    {
+      tau = tf.GetExtinction(s[3]);
+      colour = rgb;
+    }
+  }
+
+  // Largest colour component: bounds what the rest of a ray can add.
+  Real GetMaximumColor() const
+  {
+    if (this->Mix == ComponentMix::RGBOpacity)
+    {
+      return Real(1);
+    }
+    Real m = Real(0);
+    const int functions = this->Mix == ComponentMix::Independent ? this->Count : 1;
+    for (int k = 0; k < functions; ++k)
+    {
+      if (this->Weights[k] > Real(0))
+      {
+        m = std::max(m, this->Functions[k]->GetMaximumColor());
+      }
+    }
+    return m;
+  }
+
+private:
+  void SetDependent(int count, const TransferFunction<Real>& tf, Real scale)
+  {
+    this->Mix = count == 2 ? ComponentMix::ColourOpacity : ComponentMix::RGBOpacity;
+    this->Count = count;
+    this->Functions = { { &tf, nullptr, nullptr, nullptr } };
+    this->Weights = { { Real(1), Real(0), Real(0), Real(0) } };
+    this->Scale = scale;
+  }
+
+  ComponentMix Mix = ComponentMix::Independent;
+  int Count = 0;
+  std::array<const TransferFunction<Real>*, MaximumComponents> Functions{};
+  std::array<Real, MaximumComponents> Weights{};
+  Real Scale = Real(0);
+};
+
+// The adaptive rule's error scale (SimpsonErrorScale) of a mixture: the
+// largest over the components it reads, each through its function.
+template <typename Real>
+Real SimpsonErrorScale(const MixtureTransferFunction<Real>& mixture,
+  const glm::vec<MaximumComponents, Real>& lo, const glm::vec<MaximumComponents, Real>& hi)
+{
+  Real scale = Real(1);
+  for (int k = 0; k < mixture.GetNumberOfComponents(); ++k)
+  {
+    const bool read = mixture.GetMix() != ComponentMix::Independent || mixture.GetWeight(k) > 0;
+    const bool rgb = mixture.GetMix() == ComponentMix::RGBOpacity && k < 3;
+    if (read && !rgb)
+    {
+      scale = std::max(scale, SimpsonErrorScale(mixture.GetFunction(k), lo[k], hi[k]));
+    }
+  }
+  return scale;
+}
+
+// A volume of several components, each a VolumeT (Volume.h) reading its
+// own values of interleaved tuples in place; its value at a point is the
+// components' values (0 beyond its count), what RayField gives the sampled
+// methods with a MixtureTransferFunction.
+template <typename Real, typename VolumeT>
+class ComponentVolumes
+{
+public:
+  using Point = glm::vec<3, Real>;
+  using Values = glm::vec<MaximumComponents, Real>;
+
+  // component(k) makes component k's volume, k < count (1 to 4).
+  template <typename Make>
+  ComponentVolumes(int count, Make&& component)
+  {
+    this->Volumes.reserve(static_cast<std::size_t>(count));
+    for (int k = 0; k < count; ++k)
+    {
+      this->Volumes.push_back(component(k));
+    }
+  }
+
+  int GetNumberOfComponents() const { return static_cast<int>(this->Volumes.size()); }
+  const VolumeT& operator[](int k) const { return this->Volumes[static_cast<std::size_t>(k)]; }
+
+  Values operator()(const Point& p) const
+  {
+    Values v(Real(0));
+    for (std::size_t k = 0; k < this->Volumes.size(); ++k)
+    {
+      v[static_cast<int>(k)] = this->Volumes[k](p);
+    }
+    return v;
+  }
+
+  Point ToWalk(const Point& p) const { return this->Volumes.front().ToWalk(p); }
+  int GetDimension(int axis) const { return this->Volumes.front().GetDimension(axis); }
+
+private:
+  std::vector<VolumeT> Volumes;
+};
+
+// A MixtureTransferFunction in pieces (Pieces.h) for the piecewise method:
+// each of its functions built once.
+template <typename Real>
+class PiecewiseMixture
+{
+public:
+  // A term of the medium: the extinction Weight tau(s_Opacity) of the
+  // function's pieces, its colour from the same pieces at s_Colour, or
+  // (Direct) the channels s_0, s_1, s_2 times Scale.
+  struct Term
+  {
+    int Opacity = 0;
+    int Colour = 0;
+    bool Direct = false;
+    Real Weight = Real(1);
+    const PiecewiseTransferFunction<Real>* Pieces = nullptr;
+  };
+
+  // Builds the pieces of each function of `mixture` (valid) with the alpha
+  // model's `relativeError` (PiecewiseTransferFunction::Build). Empty on
+  // success, else why.
+  std::string Build(const MixtureTransferFunction<Real>& mixture, Real relativeError)
+  {
+    this->Terms.clear();
+    this->Read = 0;
+    std::string error = mixture.Validate();
+    const ComponentMix mix = mixture.GetMix();
+    const int functions = mix == ComponentMix::Independent ? mixture.GetNumberOfComponents() : 1;
+    for (int k = 0; k < functions && error.empty(); ++k)
+    {
+      error = this->Functions[k].Build(mixture.GetFunction(k), relativeError);
+    }
+    if (!error.empty())
+    {
+      return error;
+    }
+    this->Scale = mixture.GetScale();
+    this->MaximumColor = mixture.GetMaximumColor();
+    this->Count = mixture.GetNumberOfComponents();
+    if (mix == ComponentMix::Independent)
+    {
+      for (int k = 0; k < functions; ++k)
+      {
+        if (mixture.GetWeight(k) > Real(0))
+        {
+          this->Terms.push_back({ k, k, false, mixture.GetWeight(k), &this->Functions[k] });
+        }
+      }
+    }
+    else if (mix == ComponentMix::ColourOpacity)
+    {
+      this->Terms.push_back({ 1, 0, false, Real(1), &this->Functions[0] });
+    }
+    else
+    {
+      this->Terms.push_back({ 3, 0, true, Real(1), &this->Functions[0] });
+    }
+    for (const Term& t : this->Terms)
+    {
+      this->Read |= (1u << t.Opacity) | (t.Direct ? 7u : (1u << t.Colour));
+    }
+    return std::string();
+  }
+
+  const std::vector<Term>& GetTerms() const { return this->Terms; }
+  // Whether component k is read by a term.
+  bool Reads(int k) const { return (this->Read >> k) & 1u; }
+  int GetNumberOfComponents() const { return this->Count; }
+  Real GetScale() const { return this->Scale; }
+  Real GetMaximumColor() const { return this->MaximumColor; }
+
+private:
+  std::array<PiecewiseTransferFunction<Real>, MaximumComponents> Functions;
+  std::vector<Term> Terms;
+  unsigned Read = 0;
+  int Count = 0;
+  Real Scale = Real(0);
+  Real MaximumColor = Real(0);
+};
+
+namespace detail
+{
+// A colour channel on a piece: a + b x(v), x a cubic in v from the piece's
+// start.
+template <typename Real>
+struct ChannelColour
+{
+  Real A;
+  Real B;
+  Cubic<Real> X;
+};
+
+// A visible term on a piece: its weight, its extinction's piece and the
+// cubic d(v) = s(v) - Start it takes, its colour per channel (Shared: the
+// three channels' X are one cubic).
+template <typename Real>
+struct PieceTerm
+{
+  Real Weight;
+  const typename PiecewiseTransferFunction<Real>::Piece* Extinction;
+  Cubic<Real> D;
+  ChannelColour<Real> Colour[3];
+  bool Shared;
+};
+
+// Polynomials in v as coefficient arrays of fixed capacity.
+template <typename Real, int M>
+struct Polynomial
+{
+  Real C[M] = {};
+};
+
+// tau(d(v)) = a + b d + c d^2 + e d^3 as a polynomial of degree up to 9.
+template <typename Real>
+Polynomial<Real, 10> ExtinctionPolynomial(
+  const typename PiecewiseTransferFunction<Real>::Piece& p, const Cubic<Real>& d)
+{
+  Polynomial<Real, 10> tau;
+  Real power[10] = { Real(1) }; // d^j, degree 3 j
+  const Real coefficient[4] = { p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic };
+  for (int j = 0; j < 4; ++j)
+  {
+    for (int i = 0; i <= 3 * j; ++i)
+    {
+      tau.C[i] += coefficient[j] * power[i];
+    }
+    if (j < 3)
+    {
+      Real next[10] = {};
+      for (int i = 0; i <= 3 * j; ++i)
+      {
+        for (int k = 0; k < 4; ++k)
+        {
+          next[i + k] += power[i] * d.K[k];
+        }
+      }
+      std::copy(next, next + 10, power);
+    }
+  }
+  return tau;
+}
+
+// The integral of a colour remainder (by parts, one visible term) or of the
+// emissions (several) over one piece, within the piece's share of the
+// tolerance; Ta the transmittance in front, E = e^{-theta(l)}. Adds the
+// piece's colour; false when a remainder is refused.
+template <typename Real>
+class MixturePiece
+{
+public:
+  MixturePiece(const PieceDepth<Real>& depth, Real length, Real transmittance, Real front,
+    Real budget, Real inverseL, RayStatistics<Real>& stats)
+    : Depth(depth)
+    , L(length)
+    , E(transmittance)
+    , Ta(front)
+    , Budget(budget)
+    , InverseL(inverseL)
+    , Stats(stats)
+  {
+  }
+
+  bool ByParts(const PieceTerm<Real>& term, glm::vec<3, Real>& colour) const
+  {
+    const Real Tb = this->Ta * this->E;
+    Real cs = Real(0), midpointError = Real(0);
+    for (int c = 0; c < 3; ++c)
+    {
+      const ChannelColour<Real>& ch = term.Colour[c];
+      colour[c] += this->Ta * (ch.A + ch.B * ch.X.K[0]) - Tb * (ch.A + ch.B * ch.X(this->L));
+      cs = std::max(cs, std::abs(ch.B));
+      midpointError = std::max(midpointError, std::abs(ch.B * (ch.X(this->L) - ch.X.K[0])));
+    }
+    if (cs == Real(0) || this->Ta == Real(0))
+    {
+      return true;
+    }
+    if (midpointError * this->Ta * (Real(1) - this->E) <= this->Share())
+    {
+      // Each x_c is monotone: J_c within [dx_c E, dx_c], their midpoint.
+      for (int c = 0; c < 3; ++c)
+      {
+        const ChannelColour<Real>& ch = term.Colour[c];
+        colour[c] += ch.B * (this->Ta * (ch.X(this->L) - ch.X.K[0]) * (Real(1) + this->E) / 2);
+      }
+      return true;
+    }
+    // J of each distinct cubic: one where the channels share theirs.
+    const Real scale = this->Budget / (Real(2) * cs * this->Ta);
+    if (term.Shared)
+    {
+      const Cubic<Real>& x = term.Colour[0].X;
+      const Real g[1][3] = { { x.K[1], Real(2) * x.K[2], Real(3) * x.K[3] } };
+      Real J[1];
+      if (!this->Series(g, scale, J))
+      {
+        return false;
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        colour[c] += term.Colour[c].B * (this->Ta * J[0]);
+      }
+      return true;
+    }
+    Real g[3][3], J[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      const Cubic<Real>& x = term.Colour[c].X;
+      g[c][0] = x.K[1];
+      g[c][1] = Real(2) * x.K[2];
+      g[c][2] = Real(3) * x.K[3];
+    }
+    if (!this->Series(g, scale, J))
+    {
+      return false;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      colour[c] += term.Colour[c].B * (this->Ta * J[c]);
+    }
+    return true;
+  }
+
+  bool Emissions(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
+  {
+    // E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), degree <= 12.
+    Real emission[3][13] = {};
+    for (int t = 0; t < count; ++t)
+    {
+      const Polynomial<Real, 10> tau = ExtinctionPolynomial(*terms[t].Extinction, terms[t].D);
+      for (int c = 0; c < 3; ++c)
+      {
+        const ChannelColour<Real>& ch = terms[t].Colour[c];
+        const Real C[4] = { ch.A + ch.B * ch.X.K[0], ch.B * ch.X.K[1], ch.B * ch.X.K[2],
+          ch.B * ch.X.K[3] };
+        for (int i = 0; i < 10; ++i)
+        {
+          for (int k = 0; k < 4; ++k)
+          {
+            emission[c][i + k] += terms[t].Weight * tau.C[i] * C[k];
+          }
+        }
+      }
+    }
+    if (this->Ta == Real(0))
+    {
+      return true;
+    }
+    // int_0^l E_c, and the midpoint of [E, 1] times it.
+    static constexpr Reciprocals<Real> inverse{};
+    Real whole[3], largest = Real(0);
+    for (int c = 0; c < 3; ++c)
+    {
+      Real integral = emission[c][12] * inverse.R[13];
+      for (int j = 11; j >= 0; --j)
+      {
+        integral = emission[c][j] * inverse.R[j + 1] + this->L * integral;
+      }
+      whole[c] = this->L * integral;
+      largest = std::max(largest, std::abs(whole[c]));
+    }
+    if (largest * this->Ta * (Real(1) - this->E) <= this->Share())
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        colour[c] += this->Ta * whole[c] * (Real(1) + this->E) / Real(2);
+      }
+      return true;
+    }
+    Real I[3];
+    if (!this->Series(emission, this->Budget / (Real(2) * this->Ta), I))
+    {
+      return false;
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      colour[c] += this->Ta * I[c];
+    }
+    return true;
+  }
+
+private:
+  // What the piece's remainder may err by, times 2: budget (Ta (1 - E) + l / L).
+  Real Share() const
+  {
+    return this->Budget * (this->Ta * (Real(1) - this->E) + this->L * this->InverseL);
+  }
+
+  // SeriesIntegrals on the piece, sub-interval [v, v + h] allowed
+  // scale (Ta (Ev - Eh) + h / L).
+  template <int N, int M>
+  bool Series(const Real (&g)[N][M], Real scale, Real (&out)[N]) const
+  {
+    const Real front = this->Ta, inverseL = this->InverseL;
+    auto allowed = [&](Real Ev, Real Eh, Real h)
+    { return scale * (front * (Ev - Eh) + h * inverseL); };
+    return SeriesIntegrals(this->Depth, g, this->L, this->E, allowed, this->Stats, out);
+  }
+
+  const PieceDepth<Real>& Depth;
+  Real L, E, Ta, Budget, InverseL;
+  RayStatistics<Real>& Stats;
+};
+} // namespace detail
+
+namespace detail
+{
+// One ray of IntegratePiecewiseMixture, a cell at a time: the cell's
+// components (corners, ranges, cubics), its cuts, its pieces composited
+// front to back.
+template <typename Real, typename VolumeT>
+class MixtureRay
+{
+public:
+  using Term = typename PiecewiseMixture<Real>::Term;
+
+  MixtureRay(const ComponentVolumes<Real, VolumeT>& volumes, const glm::vec<3, Real>& origin,
+    const glm::vec<3, Real>& direction, const PiecewiseMixture<Real>& mixture, Real tolerance,
+    Real L, bool earlyTermination, RayResult<Real>& result)
+    : Volumes(volumes)
+    , Origin(origin)
+    , Direction(direction)
+    , Mixture(mixture)
+    , Budget(Real(0.6) * tolerance)
+    , TerminationBound(earlyTermination
+          ? Real(0.15) * tolerance / std::max(Real(1), mixture.GetMaximumColor())
+          : Real(-1))
+    , InverseL(Real(1) / L)
+    , Result(result)
+  {
+  }
+
+  // The cells of [tBegin, tEnd]; false once the ray stopped (early
+  // termination, or an error in Result).
+  bool Segment(Real tBegin, Real tEnd)
+  {
+    return CellWalk(this->Volumes, this->Origin, this->Direction, tBegin, tEnd,
+      [this](const int* cell, Real t0, Real t1) { return this->Cell(cell, t0, t1); });
+  }
+
+  void Finish() { PiecewiseRGBA(this->Colour, this->T, this->Result); }
+
+private:
+  bool Cell(const int* cell, Real t0, Real t1)
+  {
+    const int components = this->Volumes.GetNumberOfComponents();
+    unsigned finite = 0;
+    for (int k = 0; k < components; ++k)
+    {
+      if (!this->Mixture.Reads(k))
+      {
+        continue;
+      }
+      Real* c = this->Corners[k];
+      this->Volumes[k].GetCorners(cell[0], cell[1], cell[2], c);
+      this->Lo[k] = *std::min_element(c, c + 8);
+      this->Hi[k] = *std::max_element(c, c + 8);
+      // Finite only when every corner is (a NaN escapes min and max).
+      const bool ok = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
+      finite |= ok ? (1u << k) : 0u;
+    }
+    // The terms that can show in the cell: their components finite, their
+    // extinction not zero over the corners' range.
+    int count = 0;
+    unsigned used = 0;
+    for (const Term& t : this->Mixture.GetTerms())
+    {
+      const unsigned needs = (1u << t.Opacity) | (t.Direct ? 7u : (1u << t.Colour));
+      if ((finite & needs) == needs &&
+        t.Pieces->ClassifyRange(this->Lo[t.Opacity], this->Hi[t.Opacity]).Visible)
+      {
+        this->Visible[count++] = &t;
+        used |= needs;
+      }
+    }
+    if (count == 0)
+    {
+      return true;
+    }
+    ++this->Result.Statistics.Cells;
+    const glm::vec<3, Real> entry = this->Origin + t0 * this->Direction -
+      glm::vec<3, Real>(Real(cell[0]), Real(cell[1]), Real(cell[2]));
+    const Real length = t1 - t0;
+    this->Cuts.assign({ Real(0), length });
+    for (int k = 0; k < components; ++k)
+    {
+      if ((used >> k) & 1u)
+      {
+        this->S[k] = CellCubic(this->Corners[k], entry, this->Direction);
+        Real extrema[2];
+        const int n = Extrema(this->S[k], length, extrema);
+        this->Cuts.insert(this->Cuts.end(), extrema, extrema + n);
+      }
+    }
+    for (int i = 0; i < count; ++i)
+    {
+      const Term& t = *this->Visible[i];
+      this->Crossings(this->S[t.Opacity], *t.Pieces, length, true);
+      if (!t.Direct && t.Colour != t.Opacity)
+      {
+        this->Crossings(this->S[t.Colour], *t.Pieces, length, false);
+      }
+    }
+    std::sort(this->Cuts.begin(), this->Cuts.end());
+    for (std::size_t i = 0; i + 1 < this->Cuts.size(); ++i)
+    {
+      const Real u = this->Cuts[i], next = this->Cuts[i + 1];
+      if (next > u && !this->Piece(t0, u, next, count))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The crossings of the knots of `pieces` by the cubic s over [0, length]
+  // into Cuts, on each monotone stretch; `visibleOnly`: only those that
+  // bound a visible piece of it (a knot between two transparent pieces
+  // bounds nothing its term shows), else all (a colour's).
+  void Crossings(const Cubic<Real>& s, const PiecewiseTransferFunction<Real>& pieces, Real length,
+    bool visibleOnly)
+  {
+    const std::vector<Real>& knots = pieces.GetKnots();
+    Real bounds[4];
+    const int count = StretchBounds(s, length, bounds);
+    for (int b = 0; b + 1 < count; ++b)
+    {
+      const Stretch<Real> st(s, bounds[b], bounds[b + 1], pieces);
+      for (std::size_t j = visibleOnly ? st.Useful(pieces, 0) : 0; j < st.Inside;
+           j = visibleOnly ? st.Useful(pieces, j + 1) : j + 1)
+      {
+        this->Cuts.push_back(Crossing(s, st.Value(knots, j), st.A, st.B));
+      }
+    }
+  }
+
+  // The piece [u, next] of the cell entered at t0 with the first `count`
+  // Visible terms; false once the ray stops.
+  bool Piece(Real t0, Real u, Real next, int count)
+  {
+    const Real middle = Real(0.5) * (u + next), l = next - u;
+    PieceTerm<Real> terms[MaximumComponents];
+    int n = 0;
+    for (int i = 0; i < count; ++i)
+    {
+      const Term& t = *this->Visible[i];
+      const PiecewiseTransferFunction<Real>& pieces = *t.Pieces;
+      const std::size_t p = pieces.Locate(this->S[t.Opacity](middle));
+      if (!pieces.IsVisible(p))
+      {
+        continue;
+      }
+      PieceTerm<Real>& term = terms[n++];
+      term.Weight = t.Weight;
+      term.Extinction = &pieces[p];
+      term.D = this->S[t.Opacity].Shifted(u);
+      term.D.K[0] -= pieces[p].Start;
+      term.Shared = !t.Direct;
+      for (int c = 0; c < 3; ++c)
+      {
+        ChannelColour<Real>& channel = term.Colour[c];
+        if (t.Direct)
+        {
+          channel = { Real(0), this->Mixture.GetScale(), this->S[c].Shifted(u) };
+          continue;
+        }
+        const auto& colour =
+          pieces[t.Colour == t.Opacity ? p : pieces.Locate(this->S[t.Colour](middle))];
+        channel = { colour.Colour[c], colour.ColourSlope[c], this->S[t.Colour].Shifted(u) };
+        channel.X.K[0] -= colour.Start;
+      }
+    }
+    if (n == 0)
+    {
+      return true;
+    }
+    PieceDepth<Real> depth;
+    for (int i = 0; i < n; ++i)
+    {
+      const auto& e = *terms[i].Extinction;
+      depth.Add(PieceDepth<Real>(terms[i].D, e.Tau, e.TauSlope, e.TauCurvature, e.TauCubic),
+        terms[i].Weight);
+    }
+    const Real E = std::exp(-depth(l));
+    RayStatistics<Real>& stats = this->Result.Statistics;
+    ++stats.Pieces;
+    ++stats.Samples;
+    stats.Accept(l);
+    const MixturePiece<Real> piece(depth, l, E, this->T, this->Budget, this->InverseL, stats);
+    if (!(n == 1 ? piece.ByParts(terms[0], this->Colour) : piece.Emissions(terms, n, this->Colour)))
+    {
+      this->Result.Error = RefusedPieceError;
+      return false;
+    }
+    this->T *= E;
+    if (stats.Steps)
+    {
+      stats.Steps->push_back({ t0 + u, l, Real(1) - this->T });
+    }
+    if (this->T <= this->TerminationBound)
+    {
+      stats.Terminated = true;
+      return false;
+    }
+    return true;
+  }
+
+  const ComponentVolumes<Real, VolumeT>& Volumes;
+  const glm::vec<3, Real> Origin, Direction;
+  const PiecewiseMixture<Real>& Mixture;
+  const Real Budget, TerminationBound, InverseL;
+  RayResult<Real>& Result;
+  glm::vec<3, Real> Colour{ Real(0) };
+  Real T = Real(1);
+  // The cell's.
+  Real Corners[MaximumComponents][8];
+  Real Lo[MaximumComponents], Hi[MaximumComponents];
+  Cubic<Real> S[MaximumComponents];
+  const Term* Visible[MaximumComponents];
+  std::vector<Real> Cuts;
+};
+} // namespace detail
+
+// The piecewise method through a mixture (see above): the ray origin +
+// t direction (the components' walk coordinates) over `segments`, within
+// `tolerance` per channel. `steps`, when given, receives the pieces.
+template <typename Real, typename VolumeT>
+RayResult<Real> IntegratePiecewiseMixture(const ComponentVolumes<Real, VolumeT>& volumes,
+  const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction,
+  const Interval<Real>* segments, std::size_t count, const PiecewiseMixture<Real>& mixture,
+  Real tolerance, bool earlyTermination = true,
+  std::vector<StepRecord<detail::NotDeduced<Real>>>* steps = nullptr)
+{
+  RayResult<Real> result;
+  result.Statistics.Steps = steps;
+  Real L = Real(0);
+  result.Error = ValidatePiecewiseTolerance(tolerance, OpacityModel::Extinction);
+  if (result.Error.empty() && mixture.GetNumberOfComponents() != volumes.GetNumberOfComponents())
+  {
+    result.Error = "the mixture was not built for these components";
+  }
+  for (int a = 0; a < 3 && result.Error.empty(); ++a)
+  {
+    if (volumes.GetDimension(a) < 2)
+    {
+      result.Error = "the volume needs at least 2 points along each axis";
+    }
+  }
+  if (result.Error.empty())
+  {
+    result.Error = detail::ValidatePiecewiseRay(origin, direction, segments, count, L);
+  }
+  if (!result.Error.empty() || !(L > Real(0)))
+  {
+    return result;
+  }
+  detail::MixtureRay<Real, VolumeT> ray(
+    volumes, origin, direction, mixture, tolerance, L, earlyTermination, result);
+  bool going = true;
+  for (std::size_t j = 0; j < count && going; ++j)
+  {
+    going = ray.Segment(segments[j].Begin, segments[j].End);
+  }
+  if (result.Error.empty())
+  {
+    ray.Finish();
+  }
+  return result;
+}
+
+} // namespace numerics
+} // namespace avos
+
+#endif
