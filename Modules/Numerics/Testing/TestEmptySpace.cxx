@@ -3,6 +3,7 @@
 // cover every point where tau > 0; integrating over them changes a Riemann sum not at all and an
 // adaptive integral by less than eps.
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/Mixture.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
@@ -180,6 +181,62 @@ TEST(EmptySpace, BlockRangesAndClassification)
     withNaN[i] = std::nanf("");
   }
   EXPECT_EQ(map.ComputeRanges(withNaN.data()), 4u);
+}
+
+// Interleaved components: each component's block ranges are those of its
+// values alone, and a mixture's blocks are visible where any term's
+// component shows (independent), or the opacity component's (dependent).
+TEST(EmptySpace, ComponentRangesAndMixtureVisibility)
+{
+  const auto first = Fill<std::uint8_t>(Blobs);
+  std::vector<std::uint8_t> second(first.size()), both;
+  for (std::size_t i = 0; i < first.size(); ++i)
+  {
+    second[i] = static_cast<std::uint8_t>(255 - first[(i * 7919) % first.size()]);
+    both.push_back(first[i]);
+    both.push_back(second[i]);
+  }
+  EmptySpaceMap<double> a, b, mixed;
+  for (auto* map : { &a, &b, &mixed })
+  {
+    map->SetDimensions(N);
+  }
+  a.ComputeRanges(first.data());
+  b.ComputeRanges(second.data());
+  mixed.ComputeRanges(both.data(), EmptySpaceMap<double>::Samples::Points, 2);
+  ASSERT_EQ(mixed.GetNumberOfComponents(), 2);
+  for (std::size_t i = 0; i < a.GetNumberOfBlocks(); ++i)
+  {
+    ASSERT_EQ(mixed.GetMinimum(i, 0), a.GetMinimum(i));
+    ASSERT_EQ(mixed.GetMaximum(i, 0), a.GetMaximum(i));
+    ASSERT_EQ(mixed.GetMinimum(i, 1), b.GetMinimum(i));
+    ASSERT_EQ(mixed.GetMaximum(i, 1), b.GetMaximum(i));
+  }
+  const TransferFunction<double> tf = BlobTF();
+  a.Classify(tf);
+  b.Classify(tf);
+  const TransferFunction<double>* f[2] = { &tf, &tf };
+  const double weights[2] = { 1.0, 1.0 };
+  avos::numerics::MixtureTransferFunction<double> mixture;
+  mixture.SetIndependent(2, f, weights);
+  auto visible = [&](const double* lo, const double* hi) { return mixture.IsVisible(lo, hi); };
+  std::size_t either = 0;
+  mixed.ClassifyBlocks(visible);
+  for (int z = 0; z < a.GetNumberOfBlocks(2); ++z)
+  {
+    for (int y = 0; y < a.GetNumberOfBlocks(1); ++y)
+    {
+      for (int x = 0; x < a.GetNumberOfBlocks(0); ++x)
+      {
+        const bool any = a.IsVisible(x, y, z) || b.IsVisible(x, y, z);
+        either += any ? 1 : 0;
+        ASSERT_EQ(mixed.IsVisible(x, y, z), any);
+      }
+    }
+  }
+  EXPECT_GT(either, a.Classify(tf)); // the second component shows elsewhere too
+  mixture.SetColourOpacity(tf);      // the opacity of the second alone
+  EXPECT_EQ(mixed.ClassifyBlocks(visible), b.Classify(tf));
 }
 
 // Each block's range as kept against the brute-force range of its grid

@@ -109,30 +109,37 @@ public:
     CellCentres
   };
 
-  // Fills every block's range from the scalars, x fastest; `forLayers(count,
-  // body)` runs body(begin, end) over z-layers of blocks [0, count) (layers
-  // are independent: it may run them in parallel). Returns the number of NaN
-  // scalars met. Integer scalars of 16 bits or fewer keep their ranges as
-  // 16-bit keys (exact); any other type as floats rounded outward, so that a
-  // range only widens and a block classified transparent is transparent.
+  // The most components a map keeps ranges of (Mixture.h's).
+  static constexpr int MaximumComponents = 4;
+
+  // Fills every block's range of each of the `components` (1 to 4, values
+  // interleaved: a tuple per point or cell) from the scalars, x fastest;
+  // `forLayers(count, body)` runs body(begin, end) over z-layers of blocks
+  // [0, count) (layers are independent: it may run them in parallel).
+  // Returns the number of NaN values met. Integer scalars of 16 bits or
+  // fewer keep their ranges as 16-bit keys (exact); any other type as floats
+  // rounded outward, so that a range only widens and a block classified
+  // transparent is transparent.
   template <typename Storage, typename ForLayers>
-  std::size_t ComputeRanges(
-    const Storage* data, ForLayers&& forLayers, Samples samples = Samples::Points)
+  std::size_t ComputeRanges(const Storage* data, ForLayers&& forLayers,
+    Samples samples = Samples::Points, int components = 1)
   {
     // The values a block's cells [first, last) read: points first..last,
     // cells first..last - 1, or those and their neighbours (spread 1).
     const int reach = samples == Samples::Points ? 0 : 1;
     const int spread = samples == Samples::CellCentres ? 1 : 0;
     constexpr bool keyed = std::is_integral<Storage>::value && sizeof(Storage) <= 2;
+    this->Components = std::min(std::max(components, 1), MaximumComponents);
     this->KeyOffset = keyed && std::is_signed<Storage>::value ? 32768 : 0;
+    const std::size_t entries = 2 * this->BlockCount * static_cast<std::size_t>(this->Components);
     if (keyed)
     {
-      this->Keys.assign(2 * this->BlockCount, 0);
+      this->Keys.assign(entries, 0);
       this->Floats = {};
     }
     else
     {
-      this->Floats.assign(2 * this->BlockCount, 0.0f);
+      this->Floats.assign(entries, 0.0f);
       this->Keys = {};
     }
     std::atomic<std::size_t> nans(0);
@@ -144,22 +151,27 @@ public:
 
   // The same in the calling thread.
   template <typename Storage>
-  std::size_t ComputeRanges(const Storage* data, Samples samples = Samples::Points)
+  std::size_t ComputeRanges(
+    const Storage* data, Samples samples = Samples::Points, int components = 1)
   {
     return this->ComputeRanges(
-      data, [](int count, auto&& body) { body(0, count); }, samples);
+      data, [](int count, auto&& body) { body(0, count); }, samples, components);
   }
 
-  // A block's range as kept: exact for integer scalars of 16 bits or fewer,
-  // else widened to floats; Minimum > Maximum for a block of NaN only, and
-  // for every block before ComputeRanges.
-  Real GetMinimum(std::size_t block) const
+  int GetNumberOfComponents() const { return this->Components; }
+
+  // A block's range of a component as kept: exact for integer scalars of 16
+  // bits or fewer, else widened to floats; Minimum > Maximum for a block of
+  // NaN only, and for every block before ComputeRanges.
+  Real GetMinimum(std::size_t block, int component = 0) const
   {
-    return this->Kept(2 * block, std::numeric_limits<Real>::infinity());
+    return this->Kept(
+      2 * (block * this->Components + component), std::numeric_limits<Real>::infinity());
   }
-  Real GetMaximum(std::size_t block) const
+  Real GetMaximum(std::size_t block, int component = 0) const
   {
-    return this->Kept(2 * block + 1, -std::numeric_limits<Real>::infinity());
+    return this->Kept(
+      2 * (block * this->Components + component) + 1, -std::numeric_limits<Real>::infinity());
   }
 
   // Bytes of ranges and visibility the map keeps.
@@ -169,16 +181,31 @@ public:
       this->Table.capacity();
   }
 
-  // Marks the blocks where the transfer function can be non-transparent.
-  // Returns the number of visible blocks.
+  // Marks the blocks where the transfer function can be non-transparent
+  // (of the first component's ranges). Returns the number of visible blocks.
   std::size_t Classify(const TransferFunction<Real>& tf)
   {
+    // A block of NaN only (lo > hi) is transparent: NaN maps to tau = 0.
+    return this->ClassifyBlocks([&tf](const Real* lo, const Real* hi)
+      { return lo[0] <= hi[0] && tf.GetMaximumExtinction(lo[0], hi[0]) > Real(0); });
+  }
+
+  // Marks the blocks for which visible(lo, hi) holds, lo and hi the block's
+  // ranges of each component (a MixtureTransferFunction's IsVisible).
+  // Returns the number of visible blocks.
+  template <typename Visible>
+  std::size_t ClassifyBlocks(Visible&& isVisible)
+  {
     std::size_t visible = 0;
+    Real lo[MaximumComponents], hi[MaximumComponents];
     for (std::size_t i = 0; i < this->BlockCount; ++i)
     {
-      // A block of NaN only (lo > hi) is transparent: NaN maps to tau = 0.
-      const Real lo = this->GetMinimum(i), hi = this->GetMaximum(i);
-      const bool v = lo <= hi && tf.GetMaximumExtinction(lo, hi) > Real(0);
+      for (int k = 0; k < this->Components; ++k)
+      {
+        lo[k] = this->GetMinimum(i, k);
+        hi[k] = this->GetMaximum(i, k);
+      }
+      const bool v = isVisible(static_cast<const Real*>(lo), static_cast<const Real*>(hi));
       this->Table[i] = v ? 1 : 0;
       visible += v ? 1 : 0;
     }
@@ -376,60 +403,78 @@ private:
   std::size_t ComputeLayers(const Storage* data, int reach, int spread, int zBegin, int zEnd)
   {
     std::size_t nans = 0;
-    const std::ptrdiff_t sy = this->Dimensions[0] - reach;
-    const std::ptrdiff_t sz = sy * (this->Dimensions[1] - reach);
     for (int bz = zBegin; bz < zEnd; ++bz)
     {
       for (int by = 0; by < this->Blocks[1]; ++by)
       {
         for (int bx = 0; bx < this->Blocks[0]; ++bx)
         {
-          double lo = std::numeric_limits<double>::infinity();
-          double hi = -lo;
           const int b[3] = { bx, by, bz };
-          int first[3], last[3], from[3], to[3];
+          int first[3], from[3], to[3];
           for (int a = 0; a < 3; ++a)
           {
             first[a] = b[a] * BlockSize;
-            last[a] = std::min(first[a] + BlockSize, this->Dimensions[a] - 1);
+            const int last = std::min(first[a] + BlockSize, this->Dimensions[a] - 1);
             from[a] = std::max(first[a] - spread, 0);
-            to[a] = std::min(last[a] - reach + spread, this->Dimensions[a] - 1 - reach);
+            to[a] = std::min(last - reach + spread, this->Dimensions[a] - 1 - reach);
           }
-          for (int k = from[2]; k <= to[2]; ++k)
+          double lo[MaximumComponents], hi[MaximumComponents];
+          nans += this->BlockRange(data, reach, first, from, to, lo, hi);
+          const std::size_t entry = 2 * this->Index(bx, by, bz) * this->Components;
+          for (int c = 0; c < this->Components; ++c)
           {
-            for (int j = from[1]; j <= to[1]; ++j)
+            if (Keyed)
             {
-              const Storage* row = data + k * sz + j * sy;
-              for (int i = from[0]; i <= to[0]; ++i)
-              {
-                const double v = double(row[i]);
-                if (v != v)
-                {
-                  // Counted by the one block that owns the point (blocks
-                  // share their faces' points; a cell has one block).
-                  auto owns = [&](int a, int x) {
-                    return x >= first[a] &&
-                      (x < first[a] + BlockSize || x == this->Dimensions[a] - 1);
-                  };
-                  nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
-                  continue;
-                }
-                lo = std::min(lo, v);
-                hi = std::max(hi, v);
-              }
+              // NaN cannot occur: lo <= hi, both within the type.
+              this->Keys[entry + 2 * c] = static_cast<std::uint16_t>(lo[c] + this->KeyOffset);
+              this->Keys[entry + 2 * c + 1] = static_cast<std::uint16_t>(hi[c] + this->KeyOffset);
+            }
+            else
+            {
+              this->Floats[entry + 2 * c] = RoundDown(lo[c]);
+              this->Floats[entry + 2 * c + 1] = RoundUp(hi[c]);
             }
           }
-          const std::size_t index = this->Index(bx, by, bz);
-          if (Keyed)
+        }
+      }
+    }
+    return nans;
+  }
+
+  // The range of each component over the values [from, to] (per axis) of the
+  // block whose first cell is `first` (lo > hi where all are NaN), and the
+  // number of NaN values the block owns.
+  template <typename Storage>
+  std::size_t BlockRange(const Storage* data, int reach, const int first[3], const int from[3],
+    const int to[3], double* lo, double* hi) const
+  {
+    const int n = this->Components;
+    const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(this->Dimensions[0] - reach) * n;
+    const std::ptrdiff_t sz = sy * (this->Dimensions[1] - reach);
+    std::fill(lo, lo + n, std::numeric_limits<double>::infinity());
+    std::fill(hi, hi + n, -std::numeric_limits<double>::infinity());
+    // Counted by the one block that owns the value (blocks share their
+    // faces' points; a cell has one block).
+    auto owns = [&](int a, int x)
+    { return x >= first[a] && (x < first[a] + BlockSize || x == this->Dimensions[a] - 1); };
+    std::size_t nans = 0;
+    for (int k = from[2]; k <= to[2]; ++k)
+    {
+      for (int j = from[1]; j <= to[1]; ++j)
+      {
+        const Storage* row = data + k * sz + j * sy;
+        for (int i = from[0]; i <= to[0]; ++i)
+        {
+          for (int c = 0; c < n; ++c)
           {
-            // NaN cannot occur: lo <= hi, both within the type.
-            this->Keys[2 * index] = static_cast<std::uint16_t>(lo + this->KeyOffset);
-            this->Keys[2 * index + 1] = static_cast<std::uint16_t>(hi + this->KeyOffset);
-          }
-          else
-          {
-            this->Floats[2 * index] = RoundDown(lo);
-            this->Floats[2 * index + 1] = RoundUp(hi);
+            const double v = double(row[i * n + c]);
+            if (v != v)
+            {
+              nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
+              continue;
+            }
+            lo[c] = std::min(lo[c], v);
+            hi[c] = std::max(hi[c], v);
           }
         }
       }
@@ -488,7 +533,9 @@ private:
   int Dimensions[3] = { 0, 0, 0 };
   int Blocks[3] = { 0, 0, 0 };
   int Supers[3] = { 0, 0, 0 };
-  // Minimum and maximum per block: Keys (value + KeyOffset) or Floats.
+  // Minimum and maximum per block and component, (2 (block Components +
+  // component), + 1): Keys (value + KeyOffset) or Floats.
+  int Components = 1;
   std::vector<std::uint16_t> Keys;
   std::vector<float> Floats;
   int KeyOffset = 0;

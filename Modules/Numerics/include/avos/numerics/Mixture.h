@@ -204,6 +204,32 @@ public:
     }
   }
 
+  // Whether the medium can show anywhere each component k stays within
+  // [lo[k], hi[k]] (a block's ranges: EmptySpaceMap::ClassifyBlocks): some
+  // term's extinction is not 0 there. An empty range (lo > hi: NaN only)
+  // shows nothing.
+  bool IsVisible(const Real* lo, const Real* hi) const
+  {
+    auto shows = [&](const TransferFunction<Real>& tf, int k)
+    { return lo[k] <= hi[k] && tf.GetMaximumExtinction(lo[k], hi[k]) > Real(0); };
+    switch (this->Mix)
+    {
+      case ComponentMix::Independent:
+        for (int k = 0; k < this->Count; ++k)
+        {
+          if (this->Weights[k] > Real(0) && shows(*this->Functions[k], k))
+          {
+            return true;
+          }
+        }
+        return false;
+      case ComponentMix::ColourOpacity:
+        return shows(*this->Functions[0], 1);
+      default:
+        return shows(*this->Functions[0], 3);
+    }
+  }
+
   // Largest colour component: bounds what the rest of a ray can add.
   Real GetMaximumColor() const
   {
