@@ -534,6 +534,141 @@ TEST(Frame, CellConstantFieldsMatchTheCore)
   }
 }
 
+// Two components read in place (8-bit tuples), an independent mixture: the
+// frame against the core ray by ray for the piecewise method (clipped too,
+// and the nearest field), Riemann, the adaptive rule and the reference;
+// the mixture's empty-space map skips only what is transparent.
+TEST(Frame, MixturesMatchTheCore)
+{
+  Scene scene;
+  adversarial::Case second = adversarial::MakeVolume("two materials", adversarial::TwoMaterial, 11);
+  const an::TransferFunction<double> spike = adversarial::Spike(125.0, 5.0, 3.0);
+  std::vector<std::uint8_t> bytes;
+  std::vector<double> doubles;
+  for (std::size_t i = 0; i < scene.Case.Data.size(); ++i)
+  {
+    for (const double v : { scene.Case.Data[i], std::round(second.Data[i]) })
+    {
+      bytes.push_back(static_cast<std::uint8_t>(v));
+      doubles.push_back(v);
+    }
+  }
+  const an::TransferFunction<double>* functions[2] = { &scene.Case.TF, &spike };
+  const double weights[2] = { 0.8, 1.0 };
+  an::MixtureTransferFunction<double> mixture;
+  mixture.SetIndependent(2, functions, weights);
+  an::PiecewiseMixture<double> pieces;
+  ASSERT_EQ(pieces.Build(mixture, an::PiecewiseRelativeError(1e-3)), "");
+  an::EmptySpaceMap<double> map;
+  map.SetDimensions(scene.Case.Dimensions);
+  map.ComputeRanges(bytes.data(), an::EmptySpaceMap<double>::Samples::Points, 2);
+  map.ClassifyBlocks([&](const double* lo, const double* hi) { return mixture.IsVisible(lo, hi); });
+  ae::Scalars scalars = scene.Doubles();
+  scalars.Data = bytes.data();
+  scalars.Type = ae::ScalarType::UInt8;
+  scalars.Components = 2;
+  using Volume = an::TrilinearVolume<double, double>;
+  using Constant = an::CellConstantVolume<double, double>;
+  const an::ComponentVolumes<double, Volume> volumes(
+    2, [&](int k) { return Volume(doubles.data() + k, scene.Case.Dimensions, 2); });
+  const an::ComponentVolumes<double, Constant> nearest(2,
+    [&](int k)
+    {
+      return Constant(
+        doubles.data() + k, scene.Case.Dimensions, Constant::Layout::NearestPoints, 2);
+    });
+  struct Run
+  {
+    ae::Integration Kind;
+    bool Clipped;
+    ae::ScalarField Field;
+  };
+  for (const Run run : { Run{ ae::Integration::Piecewise, false, ae::ScalarField::Trilinear },
+         Run{ ae::Integration::Piecewise, true, ae::ScalarField::Trilinear },
+         Run{ ae::Integration::Piecewise, false, ae::ScalarField::Nearest },
+         Run{ ae::Integration::Riemann, false, ae::ScalarField::Trilinear },
+         Run{ ae::Integration::AdaptiveCoupled, false, ae::ScalarField::Trilinear },
+         Run{ ae::Integration::Reference, false, ae::ScalarField::Trilinear } })
+  {
+    scene.Frame.Clip = an::ClipRegion<double>();
+    if (run.Clipped)
+    {
+      scene.Frame.Clip.AddPlane(glm::normalize(glm::dvec3(1.0, 1.0, 0.0)), -std::sqrt(2.0) * 19.5);
+    }
+    scalars.Field = run.Field;
+    ae::FrameMethod method;
+    method.Kind = run.Kind;
+    method.Adaptive.Tolerance = 1e-3;
+    method.Adaptive.FieldMaximum = 255.0;
+    method.SampleDistance = 0.5;
+    method.Mixture = &mixture;
+    method.MixturePieces = &pieces;
+    method.Map = &map;
+    ae::FrameStatistics stats;
+    const std::vector<float> image = Cast(scene, scalars, method, Serial, &stats);
+    auto core =
+      [&](const auto& v, const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
+    {
+      const glm::dvec3 wo = v.ToWalk(o), wd = v.ToWalk(d);
+      const an::RayField<double, std::decay_t<decltype(v)>> field{ v, wo, wd };
+      switch (run.Kind)
+      {
+        case ae::Integration::Riemann:
+          return an::IntegrateRiemann(field, mixture, D, 0.5, an::RiemannForm::Exponential,
+            segments.data(), segments.size(), 0.0)
+            .RGBA;
+        case ae::Integration::AdaptiveCoupled:
+          return an::IntegrateAdaptive(
+            field, mixture, segments.data(), segments.size(), method.Adaptive)
+            .RGBA;
+        case ae::Integration::Reference:
+          return an::IntegratePiecewiseMixture(v, wo, wd, segments.data(), segments.size(), pieces,
+            an::PiecewiseReferenceTolerance<double>())
+            .RGBA;
+        default:
+          return an::IntegratePiecewiseMixture(
+            v, wo, wd, segments.data(), segments.size(), pieces, 1e-3)
+            .RGBA;
+      }
+    };
+    const Agreement a = Compare(scene, method, image,
+      [&](const glm::dvec3& o, const glm::dvec3& d, double D, const auto& segments)
+      {
+        return run.Field == ae::ScalarField::Nearest ? core(nearest, o, d, D, segments)
+                                                     : core(volumes, o, d, D, segments);
+      });
+    const std::string what = "kind " + std::to_string(static_cast<int>(run.Kind)) +
+      (run.Clipped ? " clipped" : "") + (run.Field == ae::ScalarField::Nearest ? " nearest" : "");
+    EXPECT_LE(a.Error, ImageRounding) << what;
+    EXPECT_GT(a.Opacity, 0.2) << what;
+    // Without the map: the same image within the method's tolerance.
+    method.Map = nullptr;
+    const std::vector<float> unskipped = Cast(scene, scalars, method, Serial);
+    double skipped = 0.0;
+    for (std::size_t i = 0; i < image.size(); ++i)
+    {
+      skipped = std::max(skipped, static_cast<double>(std::abs(image[i] - unskipped[i])));
+    }
+    EXPECT_LE(skipped, run.Kind == ae::Integration::Riemann ? ImageRounding : 2e-3) << what;
+  }
+  // What a mixture cannot take.
+  ae::FrameMethod method;
+  method.Kind = ae::Integration::Piecewise;
+  method.Mixture = &mixture;
+  EXPECT_NE(ae::Validate(scalars, method), ""); // no pieces
+  method.MixturePieces = &pieces;
+  EXPECT_EQ(ae::Validate(scalars, method), "");
+  method.Mode = ae::Blend::Maximum;
+  EXPECT_NE(ae::Validate(scalars, method), "");
+  method.Mode = ae::Blend::Composite;
+  an::ShadingModel<double> shading;
+  method.Shading = &shading;
+  EXPECT_NE(ae::Validate(scalars, method), "");
+  method.Shading = nullptr;
+  scalars.Components = 3;
+  EXPECT_NE(ae::Validate(scalars, method), "");
+}
+
 TEST(Frame, ThreadedLoopGivesTheSerialImage)
 {
   const Scene scene;

@@ -49,9 +49,20 @@ void DispatchScalars(const Scalars& scalars, F&& f)
   }
 }
 
+// Whether a volume type is a mixture's components (Mixture.h).
+template <typename VolumeT>
+struct IsMixture : std::false_type
+{
+};
+template <typename VolumeT>
+struct IsMixture<an::ComponentVolumes<double, VolumeT>> : std::true_type
+{
+};
+
 // Calls f(volume) with the field of the scalars: the trilinear interpolant,
 // a field constant per cell, or cell scalars between their centres
-// (avos/numerics/Volume.h).
+// (avos/numerics/Volume.h); with several components, each component's field
+// (ComponentVolumes).
 template <typename F>
 void DispatchVolume(const Scalars& scalars, F&& f)
 {
@@ -60,18 +71,46 @@ void DispatchVolume(const Scalars& scalars, F&& f)
     {
       using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
       using Constant = an::CellConstantVolume<double, Storage>;
+      const int n = scalars.Components;
+      const int* dims = scalars.Dimensions;
+      // make(k) is component k's field.
+      auto with = [&](auto make)
+      {
+        if (n == 1)
+        {
+          return f(make(0));
+        }
+        return f(an::ComponentVolumes<double, decltype(make(0))>(n, make));
+      };
       switch (scalars.Field)
       {
         case ScalarField::Trilinear:
-          return f(an::TrilinearVolume<double, Storage>(data, scalars.Dimensions));
+          return with(
+            [&](int k) { return an::TrilinearVolume<double, Storage>(data + k, dims, n); });
         case ScalarField::Nearest:
-          return f(Constant(data, scalars.Dimensions, Constant::Layout::NearestPoints));
+          return with(
+            [&](int k) { return Constant(data + k, dims, Constant::Layout::NearestPoints, n); });
         case ScalarField::Cells:
-          return f(Constant(data, scalars.Dimensions, Constant::Layout::Cells));
+          return with([&](int k) { return Constant(data + k, dims, Constant::Layout::Cells, n); });
         case ScalarField::CellCentres:
-          return f(an::CellCentredVolume<double, Storage>(data, scalars.Dimensions));
+          return with(
+            [&](int k) { return an::CellCentredVolume<double, Storage>(data + k, dims, n); });
       }
     });
+}
+
+// The medium the sampled methods classify with: the transfer function, or
+// a mixture's.
+template <typename VolumeT>
+const an::TransferFunction<double>& MediumOf(const FrameMethod& method, const VolumeT&)
+{
+  return *method.TF;
+}
+template <typename VolumeT>
+const an::MixtureTransferFunction<double>& MediumOf(
+  const FrameMethod& method, const an::ComponentVolumes<double, VolumeT>&)
+{
+  return *method.Mixture;
 }
 
 // Whether the volume's walk coordinates (ToWalk: the same t) are the point
@@ -115,10 +154,14 @@ template <typename VolumeT, typename F>
 an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method,
   const glm::dvec3& start, const glm::dvec3& direction, F&& f)
 {
-  if (method.Shading)
+  // (Validate refuses shaded mixtures.)
+  if constexpr (!IsMixture<VolumeT>::value)
   {
-    return f(an::ShadedRayField<double, VolumeT>{
-      volume, start, direction, ShadingOf(method, start, direction) });
+    if (method.Shading)
+    {
+      return f(an::ShadedRayField<double, VolumeT>{
+        volume, start, direction, ShadingOf(method, start, direction) });
+    }
   }
   return f(an::RayField<double, VolumeT>{ volume, start, direction });
 }
@@ -131,7 +174,7 @@ void ClippedRiemann(const VolumeT& volume, const FrameMethod& method, const glm:
   const glm::dvec3& direction, const Segments& segments, RayScratch& scratch,
   an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
-  const an::TransferFunction<double>& tf = *method.TF;
+  const auto& tf = MediumOf(method, volume);
   // The sums' own termination test, on the whole ray's transmittance.
   const double stop = method.TerminationBound / std::max(1.0, tf.GetMaximumColor());
   glm::dvec3 color(0.0);
@@ -310,6 +353,41 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
   }
 }
 
+// The composite integral of a mixture's ray over `segments` by the method:
+// its medium for the sampled methods, its pieces for the piecewise ones.
+template <typename VolumeT>
+void Composite(const an::ComponentVolumes<double, VolumeT>& volume, const FrameMethod& method,
+  const glm::dvec3& origin, const glm::dvec3& direction, double D, const Segments& segments,
+  an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
+{
+  const an::MixtureTransferFunction<double>& medium = *method.Mixture;
+  const an::RayField<double, an::ComponentVolumes<double, VolumeT>> field{ volume, origin,
+    direction };
+  switch (method.Kind)
+  {
+    case Integration::Riemann:
+      result =
+        an::IntegrateRiemann(field, medium, D, method.SampleDistance, an::RiemannForm::Exponential,
+          segments.data(), segments.size(), method.TerminationBound, steps);
+      return;
+    case Integration::Reference:
+      result = method.MixturePieces
+        ? an::IntegratePiecewiseMixture(volume, origin, direction, segments.data(), segments.size(),
+            *method.MixturePieces, an::PiecewiseReferenceTolerance<double>())
+        : an::IntegrateReference(field, medium, segments.data(), segments.size());
+      return;
+    case Integration::Piecewise:
+      result = an::IntegratePiecewiseMixture(volume, origin, direction, segments.data(),
+        segments.size(), *method.MixturePieces, method.Adaptive.Tolerance, true, steps);
+      return;
+    case Integration::AdaptiveCoupled:
+    case Integration::AdaptiveDecoupled:
+      result = an::IntegrateAdaptive(
+        field, medium, segments.data(), segments.size(), method.Adaptive, steps);
+      return;
+  }
+}
+
 // The ray origin + t direction (point-grid coordinates) through the volume
 // by the method: the map's segments and the clip region in the point grid,
 // the integrals in the volume's walk coordinates.
@@ -342,18 +420,20 @@ void Integrate(const VolumeT& volume, const an::ClipRegion<double>& clip, const 
   {
     return;
   }
-  if (method.Mode == Blend::Additive || method.Mode == Blend::Average)
+  if constexpr (!IsMixture<VolumeT>::value) // (Validate refuses their projections)
   {
-    Accumulate(volume, method, o, d, segments, result);
+    if (method.Mode == Blend::Additive || method.Mode == Blend::Average)
+    {
+      Accumulate(volume, method, o, d, segments, result);
+      return;
+    }
+    if (projection)
+    {
+      Extremum(volume, method, o, d, D, scratch, result);
+      return;
+    }
   }
-  else if (projection)
-  {
-    Extremum(volume, method, o, d, D, scratch, result);
-  }
-  else
-  {
-    Composite(volume, method, o, d, D, segments, result, steps);
-  }
+  Composite(volume, method, o, d, D, segments, result, steps);
 }
 
 // The ray of pixel (x, y) through IntegrateRay, its segments walked here.
@@ -643,6 +723,43 @@ void FrameStatistics::Merge(const FrameStatistics& other)
   }
 }
 
+namespace
+{
+// Empty when a mixture of `scalars.Components` can be cast with `method`.
+std::string ValidateMixture(const Scalars& scalars, const FrameMethod& method)
+{
+  if (scalars.Components < 1 || scalars.Components > numerics::MaximumComponents)
+  {
+    return "the engine reads 1 to 4 components";
+  }
+  if (!method.Mixture || method.Mixture->GetNumberOfComponents() != scalars.Components)
+  {
+    return "scalars of several components need their mixture";
+  }
+  if (method.Kind == Integration::Piecewise && !method.MixturePieces)
+  {
+    return "the piecewise method needs the mixture's pieces";
+  }
+  if (method.MixturePieces && method.MixturePieces->GetNumberOfComponents() != scalars.Components)
+  {
+    return "the mixture's pieces were built for another number of components";
+  }
+  if (method.Mode != Blend::Composite)
+  {
+    return "scalars of several components are composited only (no projections)";
+  }
+  if (method.Shading)
+  {
+    return "scalars of several components are not shaded";
+  }
+  if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
+  {
+    return "the engine's kernels read a single component";
+  }
+  return std::string();
+}
+} // namespace
+
 bool WalksSegments(const FrameMethod& method)
 {
   return method.Map && method.Mode == Blend::Composite;
@@ -661,12 +778,21 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
       return "the volume needs at least 2 points along each axis";
     }
   }
-  if (!method.TF)
+  if (scalars.Components != 1)
+  {
+    const std::string error = ValidateMixture(scalars, method);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
+  else if (!method.TF)
   {
     return "no transfer function";
   }
   const bool additive = method.Mode == Blend::Additive;
-  if ((method.Kind == Integration::Piecewise || additive) && !method.Pieces)
+  if ((method.Kind == Integration::Piecewise || additive) && scalars.Components == 1 &&
+    !method.Pieces)
   {
     return "the piecewise method and the additive projection need the transfer function's pieces";
   }

@@ -24,6 +24,7 @@
 #include "avos/numerics/Accumulation.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/Mixture.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Shading.h"
@@ -66,15 +67,17 @@ enum class ScalarField
   CellCentres // cell scalars, trilinear between the cells' centres (linear)
 };
 
-// A single-component scalar volume read in place, x fastest: one value per
-// grid point, or per cell for the cell fields. Dimensions are the grid
-// points' (the box) in every field.
+// A scalar volume read in place, x fastest: one tuple of Components values
+// (interleaved; 2 to 4 make a mixture, FrameMethod::Mixture) per grid point,
+// or per cell for the cell fields. Dimensions are the grid points' (the
+// box) in every field.
 struct Scalars
 {
   const void* Data = nullptr;
   ScalarType Type = ScalarType::Float32;
   int Dimensions[3] = { 0, 0, 0 };
   ScalarField Field = ScalarField::Trilinear;
+  int Components = 1;
 };
 
 // How a ray is integrated (vtkAdaptiveVolumeMapper's IntegrationMethod).
@@ -107,6 +110,11 @@ struct FrameMethod
   double SampleDistance = 0.5;
   double TerminationBound = 0.0;
   const numerics::TransferFunction<double>* TF = nullptr;
+  // Scalars of several components: their medium (in place of TF) and, for
+  // the piecewise methods, its pieces (in place of Pieces); composite rays,
+  // unshaded, without the kernels.
+  const numerics::MixtureTransferFunction<double>* Mixture = nullptr;
+  const numerics::PiecewiseMixture<double>* MixturePieces = nullptr;
   // The empty-space map whose visible segments composite rays integrate
   // (null: the whole box); the projections search its blocks.
   const numerics::EmptySpaceMap<double>* Map = nullptr;
