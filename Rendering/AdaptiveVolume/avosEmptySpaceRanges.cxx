@@ -28,8 +28,9 @@ bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], Sa
   std::size_t nans = 0;
   switch (scalars->GetDataType())
   {
-    vtkTemplateMacro(nans = this->Map.ComputeRanges(
-                       static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)), ForLayers, samples));
+    vtkTemplateMacro(
+      nans = this->Map.ComputeRanges(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)),
+        ForLayers, samples, scalars->GetNumberOfComponents()));
     default:
       return false;
   }

@@ -23,9 +23,10 @@ class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EmptySpaceRanges
 public:
   using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
 
-  /// Brings the ranges up to date for the scalars (single component, one per
-  /// grid point of `dimensions`, or one per cell, as `samples` says). False,
-  /// with nothing changed, for a scalar type the map cannot read.
+  /// Brings the ranges up to date for the scalars (each of their 1 to 4
+  /// components, a tuple per grid point of `dimensions`, or per cell, as
+  /// `samples` says). False, with nothing changed, for a scalar type the map
+  /// cannot read.
   bool Update(vtkDataArray* scalars, const int dimensions[3], Samples samples = Samples::Points);
 
   avos::numerics::EmptySpaceMap<double>& GetMap() { return this->Map; }

@@ -43,6 +43,7 @@ bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine
       return false;
   }
   view.Data = scalars->GetVoidPointer(0);
+  view.Components = scalars->GetNumberOfComponents();
   std::copy(dimensions, dimensions + 3, view.Dimensions);
   return true;
 }

@@ -20,9 +20,9 @@ class vtkDataArray;
 
 namespace avos
 {
-/// The frame engine's view of single-component scalars, one per grid point
-/// of `dimensions`, read in place (no copy); false for a type the engine
-/// does not read (bit, string and other non-numeric arrays).
+/// The frame engine's view of scalars (a tuple of their components per grid
+/// point of `dimensions`), read in place (no copy); false for a type the
+/// engine does not read (bit, string and other non-numeric arrays).
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ScalarsInPlace(
   vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view);
 

@@ -475,20 +475,22 @@ std::string ConvertGray(vtkPiecewiseFunction* gray, const Ranges& transparent, T
   return error.empty() ? error : "the gray transfer function " + error;
 }
 
-// VTK's colour function as knots: exact where VTK interpolates piecewise
-// linearly, certified within budget.Colour (when positive) where it does
-// not (wherever the opacity is not 0), resampled otherwise. Outside the
-// nodes, what VTK gives there: the end colours, the below- and above-range
-// colours, or black without clamping.
-std::string ConvertColor(
-  vtkVolumeProperty* property, TransferFunction& tf, avos::ConversionBudget& budget)
+// VTK's colour function of `component` as knots: exact where VTK
+// interpolates piecewise linearly, certified within budget.Colour (when
+// positive) where it does not (wherever the opacity of the same scalar is
+// not 0, when `sameScalar`: else everywhere), resampled otherwise. Outside
+// the nodes, what VTK gives there: the end colours, the below- and
+// above-range colours, or black without clamping.
+std::string ConvertColor(vtkVolumeProperty* property, int component, bool sameScalar,
+  TransferFunction& tf, avos::ConversionBudget& budget)
 {
-  const Ranges transparent = TransparentRanges(property->GetScalarOpacity(0));
-  if (property->GetColorChannels(0) == 1)
+  const Ranges transparent =
+    sameScalar ? TransparentRanges(property->GetScalarOpacity(component)) : Ranges();
+  if (property->GetColorChannels(component) == 1)
   {
-    return ConvertGray(property->GetGrayTransferFunction(0), transparent, tf, budget);
+    return ConvertGray(property->GetGrayTransferFunction(component), transparent, tf, budget);
   }
-  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction(component);
   const int n = color ? color->GetSize() : 0;
   if (n == 0)
   {
@@ -566,15 +568,15 @@ std::string ConvertColor(
   return std::string();
 }
 
-// VTK's opacity function as knots: exact where VTK interpolates piecewise
-// linearly, certified within `pixel` (numerics::ExtinctionBudget: the
-// extinctions `tf`'s opacity model gives, for rays up to LongestRay) where
-// it does not, resampled otherwise.
-std::string ConvertOpacity(
-  vtkVolumeProperty* property, double pixel, TransferFunction& tf, avos::ConversionBudget& budget)
+// VTK's opacity function of `component` as knots: exact where VTK
+// interpolates piecewise linearly, certified within `pixel`
+// (numerics::ExtinctionBudget: the extinctions `tf`'s opacity model gives,
+// for rays up to LongestRay) where it does not, resampled otherwise.
+std::string ConvertOpacity(vtkVolumeProperty* property, int component, double pixel,
+  TransferFunction& tf, avos::ConversionBudget& budget)
 {
   namespace an = avos::numerics;
-  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(component);
   const bool certifying = pixel > 0.0 && budget.LongestRay > 0.0;
   const auto share = an::ExtinctionBudget<double>::Within(
     pixel, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
@@ -598,15 +600,16 @@ std::string ConvertOpacity(
   return error.empty() ? error : "the scalar opacity function " + error;
 }
 
-// True when the gradient opacity changes anything: enabled and not the
-// constant 1 that VTK creates on first access (VTK's GPU mapper accesses it).
-bool UsesGradientOpacity(vtkVolumeProperty* property)
+// True when the gradient opacity of `component` changes anything: enabled
+// and not the constant 1 that VTK creates on first access (VTK's GPU mapper
+// accesses it).
+bool UsesGradientOpacity(vtkVolumeProperty* property, int component)
 {
-  if (property->GetDisableGradientOpacity(0) || !property->HasGradientOpacity(0))
+  if (property->GetDisableGradientOpacity(component) || !property->HasGradientOpacity(component))
   {
     return false;
   }
-  vtkPiecewiseFunction* f = property->GetStoredGradientOpacity(0);
+  vtkPiecewiseFunction* f = property->GetStoredGradientOpacity(component);
   for (int i = 0; f && i < f->GetSize(); ++i)
   {
     double node[4];
@@ -621,7 +624,7 @@ bool UsesGradientOpacity(vtkVolumeProperty* property)
 } // namespace
 
 std::string avos::UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading, bool nearest)
+  vtkVolumeProperty* property, bool shading, bool nearest, int components)
 {
   if (!property)
   {
@@ -632,8 +635,12 @@ std::string avos::UnsupportedPropertySettings(
     return "Only trilinear interpolation is supported (the integrals are those of the trilinear "
            "field): call the property's SetInterpolationTypeToLinear()";
   }
-  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D ||
-    UsesGradientOpacity(property))
+  bool gradientOpacity = false;
+  for (int k = 0; k < std::max(components, 1); ++k)
+  {
+    gradientOpacity = gradientOpacity || UsesGradientOpacity(property, k);
+  }
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D || gradientOpacity)
   {
     return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
            "opacity, no 2D transfer function";
@@ -712,6 +719,57 @@ std::string avos::ApproximationNotice(int approximatedIntervals)
     "for an opacity curve that reaches 1 in VTK's opacity model)";
 }
 
+namespace
+{
+// Component k's functions into `tf` (replaced): its colours (unless
+// `colours`, RGB components: white) within b.Colour, then its opacity within
+// opacityShare() (a pixel's share, ConvertOpacity; it may depend on what the
+// colours spent); `sameScalar`: the colour and the opacity read the same
+// scalar.
+template <typename Share>
+std::string ConvertComponent(vtkVolumeProperty* property, int k, bool extinction, double voxel,
+  bool colours, bool sameScalar, Share&& opacityShare, TransferFunction& tf,
+  avos::ConversionBudget& b)
+{
+  tf = TransferFunction();
+  // The opacity model first: the opacity's certification takes its extinction.
+  if (!extinction)
+  {
+    tf.SetOpacityModel(
+      avos::numerics::OpacityModel::Alpha, property->GetScalarOpacityUnitDistance(k) / voxel);
+  }
+  std::string error;
+  if (colours)
+  {
+    error = ConvertColor(property, k, sameScalar, tf, b);
+  }
+  else
+  {
+    tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  }
+  const double opacity = opacityShare();
+  if (error.empty())
+  {
+    error = ConvertOpacity(property, k, opacity, tf, b);
+  }
+  if (error.empty())
+  {
+    error = tf.Validate();
+  }
+  tf.Finalize();
+  return error;
+}
+
+// Resets what a conversion reports.
+avos::ConversionBudget& Reset(avos::ConversionBudget* budget, avos::ConversionBudget& none)
+{
+  avos::ConversionBudget& b = budget ? *budget : none;
+  b.CertifiedColour = b.CertifiedOpacity = b.Approximated = 0;
+  b.Spent = 0.0;
+  return b;
+}
+} // namespace
+
 std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool extinction,
   double voxel, TransferFunction& tf, ConversionBudget* budget)
 {
@@ -720,30 +778,88 @@ std::string avos::TransferFunctionFromProperty(vtkVolumeProperty* property, bool
   {
     return "no volume property";
   }
-  // The opacity model first: the opacity's certification takes its extinction.
-  if (!extinction)
+  ConversionBudget none;
+  ConversionBudget& b = Reset(budget, none);
+  // The opacity takes its share and what the colours left.
+  double opacity = 0.0;
+  auto share = [&b, &opacity]()
   {
-    tf.SetOpacityModel(
-      avos::numerics::OpacityModel::Alpha, property->GetScalarOpacityUnitDistance(0) / voxel);
+    const double colours = b.Colour * b.ColourGain;
+    b.Spent = b.CertifiedColour > 0 ? colours : 0.0;
+    opacity = b.Opacity + colours - b.Spent;
+    return opacity;
+  };
+  const std::string error =
+    ConvertComponent(property, 0, extinction, voxel, true, true, share, tf, b);
+  b.Spent += b.CertifiedOpacity > 0 ? opacity : 0.0;
+  return error;
+}
+
+std::string avos::MixtureFromProperty(vtkVolumeProperty* property, int components, int scalarType,
+  bool extinction, double voxel, MixtureFunctions& out, ConversionBudget* budget)
+{
+  if (!property)
+  {
+    return "no volume property";
   }
   ConversionBudget none;
-  ConversionBudget& b = budget ? *budget : none;
-  b.CertifiedColour = b.CertifiedOpacity = b.Approximated = 0;
-  b.Spent = 0.0;
-  std::string error = ConvertColor(property, tf, b);
-  // The opacity takes its share and what the colours left.
-  const double colours = b.Colour * b.ColourGain;
-  b.Spent = b.CertifiedColour > 0 ? colours : 0.0;
-  const double opacity = b.Opacity + colours - b.Spent;
-  if (error.empty())
+  ConversionBudget& b = Reset(budget, none);
+  const bool independent = property->GetIndependentComponents() != 0;
+  if (!independent && components != 2 && components != 4)
   {
-    error = ConvertOpacity(property, opacity, tf, b);
+    return "dependent components must be 2 (the colour of the first, the opacity of the second) "
+           "or 4 (RGB and opacity), not " +
+      std::to_string(components);
   }
-  b.Spent += b.CertifiedOpacity > 0 ? opacity : 0.0;
-  if (error.empty())
+  if (!independent && components == 4 && scalarType != VTK_UNSIGNED_CHAR)
   {
-    error = tf.Validate();
+    return "4 dependent components (RGB and opacity) must be unsigned char, as VTK's mappers "
+           "take them";
   }
-  tf.Finalize();
-  return error;
+  // Each component's opacity within the share over the weights' sum (at
+  // least 1): their weighted extinctions' errors add up to the share. No
+  // component takes another's unused colour share.
+  double weights = 0.0;
+  for (int k = 0; k < components && independent; ++k)
+  {
+    weights += std::max(property->GetComponentWeight(k), 0.0);
+  }
+  const double opacity = b.Opacity / std::max(weights, 1.0);
+  std::string error;
+  for (int k = 0; k < (independent ? components : 1) && error.empty(); ++k)
+  {
+    error = ConvertComponent(
+      property, k, extinction, voxel, independent || components == 2, independent,
+      [opacity]() { return opacity; }, out.Functions[static_cast<std::size_t>(k)], b);
+    if (!error.empty() && independent)
+    {
+      error = "component " + std::to_string(k) + ": " + error;
+    }
+  }
+  b.Spent = (b.CertifiedColour > 0 ? b.Colour * b.ColourGain : 0.0) +
+    (b.CertifiedOpacity > 0 ? b.Opacity : 0.0);
+  if (!error.empty())
+  {
+    return error;
+  }
+  if (independent)
+  {
+    const avos::numerics::TransferFunction<double>* functions[4];
+    double w[4];
+    for (int k = 0; k < components; ++k)
+    {
+      functions[k] = &out.Functions[static_cast<std::size_t>(k)];
+      w[k] = property->GetComponentWeight(k);
+    }
+    out.Mixture.SetIndependent(components, functions, w);
+  }
+  else if (components == 2)
+  {
+    out.Mixture.SetColourOpacity(out.Functions[0]);
+  }
+  else
+  {
+    out.Mixture.SetRGBOpacity(out.Functions[0], 1.0 / 255.0);
+  }
+  return out.Mixture.Validate();
 }

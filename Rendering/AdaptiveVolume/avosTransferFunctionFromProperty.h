@@ -8,8 +8,10 @@
 
 #include "avosRenderingAdaptiveVolumeModule.h" // For export macro
 
+#include "avos/numerics/Mixture.h"          // For MixtureTransferFunction
 #include "avos/numerics/TransferFunction.h" // For TransferFunction
 
+#include <array>  // For std::array
 #include <string> // For std::string
 
 class vtkColorTransferFunction;
@@ -88,6 +90,40 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string TransferFunctionFromProperty(
   avos::numerics::TransferFunction<double>& tf, ConversionBudget* budget = nullptr);
 
 /**
+ * A volume of several components as VTK's mappers read it: each
+ * component's transfer function (independent components), or the first
+ * component's (dependent ones), and their mixture (pointing into
+ * Functions: not copied).
+ */
+struct AVOSRENDERINGADAPTIVEVOLUME_EXPORT MixtureFunctions
+{
+  std::array<avos::numerics::TransferFunction<double>, 4> Functions;
+  avos::numerics::MixtureTransferFunction<double> Mixture;
+
+  MixtureFunctions() = default;
+  MixtureFunctions(const MixtureFunctions&) = delete;
+  MixtureFunctions& operator=(const MixtureFunctions&) = delete;
+};
+
+/**
+ * The mixture (numerics/Mixture.h) of `components` (2 to 4) scalars of the
+ * VTK type `scalarType`, as TransferFunctionFromProperty converts each
+ * function. Independent components (the property's default): component k
+ * through its own colour (RGB or gray), scalar opacity, unit distance and
+ * weight (GetComponentWeight). Dependent ones: 2, the first component's
+ * colour function of the first scalar and its opacity function of the
+ * second; 4 (unsigned char only), the first three scalars / 255 as RGB and
+ * the opacity function of the fourth. Within `budget` as
+ * TransferFunctionFromProperty, each component's colours within its Colour
+ * share, each opacity within Opacity over the weights' sum (at least 1),
+ * so that their weighted errors add up to the shares; no component lends
+ * another its unused share. Returns an empty string, or why not.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string MixtureFromProperty(vtkVolumeProperty* property,
+  int components, int scalarType, bool extinction, double voxel, MixtureFunctions& out,
+  ConversionBudget* budget = nullptr);
+
+/**
  * Fills `n` with the model (avosNodeInterpolation.h) of VTK's colour
  * between nodes `index` and `index + 1` of `color`, the ends in the
  * interpolation space computed by VTK. False for a colour space it does not
@@ -131,12 +167,13 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ApproximationNotice(int approxima
  * Empty, or a sentence (no final stop) naming the property's settings that the ray
  * integrals do not honour (never ignored): nearest interpolation unless
  * `nearest` (the caller integrates the field constant per point region), a
- * gradient opacity that changes anything (VTK's default constant 1 is
- * accepted), a 2D transfer function, UseClippedVoxelIntensity, and shading
- * unless `shading` (the caller lights the emission).
+ * gradient opacity of any of the first `components` that changes anything
+ * (VTK's default constant 1 is accepted), a 2D transfer function,
+ * UseClippedVoxelIntensity, and shading unless `shading` (the caller lights
+ * the emission).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading = false, bool nearest = false);
+  vtkVolumeProperty* property, bool shading = false, bool nearest = false, int components = 1);
 }
 
 #endif

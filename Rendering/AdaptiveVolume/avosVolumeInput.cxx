@@ -6,17 +6,26 @@
 #include <cmath>
 #include <sstream>
 
-std::string avos::ValidateVolumeInput(vtkImageData* image, vtkDataArray* scalars, bool cellScalars)
+std::string avos::ValidateVolumeInput(
+  vtkImageData* image, vtkDataArray* scalars, bool cellScalars, int maximumComponents)
 {
   if (!image || !scalars)
   {
     return "the input has no scalars to render";
   }
   std::ostringstream message;
-  if (scalars->GetNumberOfComponents() != 1)
+  const int components = scalars->GetNumberOfComponents();
+  if (components < 1 || components > maximumComponents)
   {
-    message << "only single-component scalars are supported, not "
-            << scalars->GetNumberOfComponents() << " components";
+    if (maximumComponents == 1)
+    {
+      message << "only single-component scalars are supported by this class, not " << components
+              << " components (vtkAdaptiveVolumeMapper renders 2 to 4)";
+    }
+    else
+    {
+      message << "1 to " << maximumComponents << " components are supported, not " << components;
+    }
     return message.str();
   }
   const int* dims = image->GetDimensions();

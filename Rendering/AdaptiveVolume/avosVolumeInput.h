@@ -14,11 +14,13 @@ class vtkImageData;
 namespace avos
 {
 /// Why `scalars` of `image` cannot be rendered, or empty: they must exist,
-/// be of one component, one per point (one per cell for `cellScalars`), on
-/// a grid of at least 2 points along each axis with a non-zero, finite
-/// spacing. Whether cell scalars are rendered is the caller's to say.
+/// be of one component (up to `maximumComponents`: 4 for
+/// vtkAdaptiveVolumeMapper, which renders several), one tuple per point
+/// (per cell for `cellScalars`), on a grid of at least 2 points along each
+/// axis with a non-zero, finite spacing. Whether cell scalars are rendered
+/// is the caller's to say.
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ValidateVolumeInput(
-  vtkImageData* image, vtkDataArray* scalars, bool cellScalars);
+  vtkImageData* image, vtkDataArray* scalars, bool cellScalars, int maximumComponents = 1);
 }
 
 #endif

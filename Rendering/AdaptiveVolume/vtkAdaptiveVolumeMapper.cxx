@@ -100,9 +100,11 @@ public:
   // ValidateSettings: the adaptive rule's settings.
   an::AdaptiveSettings<double> Adaptive;
 
-  // UpdateInput: the input's scalars (per point, or per cell) and grid.
+  // UpdateInput: the input's scalars (per point, or per cell; 1 to 4
+  // components) and grid.
   vtkDataArray* Scalars = nullptr;
   bool CellData = false;
+  int Components = 1;
   int Dimensions[3] = { 0, 0, 0 };
 
   // UpdateGeometry: grid to world and back, the voxel unit; the clipping
@@ -118,9 +120,11 @@ public:
   double DataRange[2] = { 0.0, 1.0 };
   avos::engine::Scalars View;
 
-  // UpdateProperty: the transfer function and the blocks' visibility; the
-  // shading of the frame (FrameMethod::Shading points here) and its key.
+  // UpdateProperty: the transfer function (several components: their
+  // mixture) and the blocks' visibility; the shading of the frame
+  // (FrameMethod::Shading points here) and its key.
   TransferFunction TF;
+  avos::MixtureFunctions Mixture;
   vtkMTimeType PropertyTime = 0;
   int OpacityModel = -1;
   double ClassifiedVoxel = 0.0;
@@ -138,6 +142,7 @@ public:
   // model's share of the tolerance) when a piecewise method needs it.
   bool Piecewise = false;
   an::PiecewiseTransferFunction<double> Pieces;
+  an::PiecewiseMixture<double> MixturePieces;
   double PiecesRelativeError = 0.0;
   vtkTimeStamp PiecesTime;
   // The average projection's range (AverageAlongRay), rebuilt every frame.
@@ -348,7 +353,8 @@ vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
     input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
-  const std::string error = avos::ValidateVolumeInput(input, scalars, cellFlag != 0);
+  const std::string error =
+    avos::ValidateVolumeInput(input, scalars, cellFlag != 0, avos::numerics::MaximumComponents);
   if (!error.empty())
   {
     vtkErrorMacro(<< "Cannot render: " << error << ".");
@@ -357,6 +363,7 @@ vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
   input->GetDimensions(internals.Dimensions);
   internals.Scalars = scalars;
   internals.CellData = cellFlag != 0;
+  internals.Components = scalars->GetNumberOfComponents();
   return input;
 }
 
@@ -449,8 +456,15 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
   }
   internals.NaNReported = internals.Ranges.GetTime();
   internals.View.Field = field;
-  // Bounds of the trilinear field, and the projections' normalisation.
+  // Bounds of the trilinear field (every component's), and the projections'
+  // normalisation.
   scalars->GetRange(internals.DataRange, 0);
+  for (int k = 1; k < internals.Components; ++k)
+  {
+    const double* range = scalars->GetRange(k);
+    internals.DataRange[0] = std::min(internals.DataRange[0], range[0]);
+    internals.DataRange[1] = std::max(internals.DataRange[1], range[1]);
+  }
   return true;
 }
 
@@ -459,13 +473,29 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& internals = *this->Internals;
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  const std::string unsupported = avos::UnsupportedPropertySettings(property, true, true);
+  const std::string unsupported =
+    avos::UnsupportedPropertySettings(property, true, true, internals.Components);
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
     return false;
   }
+  const bool mixture = internals.Components > 1;
+  if (mixture && this->BlendMode != COMPOSITE_BLEND)
+  {
+    vtkErrorMacro(<< "Scalars of " << internals.Components
+                  << " components are rendered with the composite blend mode only, not with "
+                     "projections.");
+    return false;
+  }
   internals.Shade = property->GetShade(0) != 0;
+  if (mixture && internals.Shade)
+  {
+    vtkErrorMacro(<< "Cannot shade scalars of " << internals.Components
+                  << " components (their gradients are not modelled); turn the property's Shade "
+                     "off.");
+    return false;
+  }
   internals.ShadingKey.clear();
   if (internals.Shade && internals.View.Field != avos::engine::ScalarField::Trilinear)
   {
@@ -506,8 +536,12 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime() ||
     !budget.SameAs(internals.Conversion))
   {
-    const std::string error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, internals.Voxel, internals.TF, &budget);
+    const bool extinction = this->OpacityModel == EXTINCTION_OPACITY;
+    const std::string error = mixture
+      ? avos::MixtureFromProperty(property, internals.Components, internals.Scalars->GetDataType(),
+          extinction, internals.Voxel, internals.Mixture, &budget)
+      : avos::TransferFunctionFromProperty(
+          property, extinction, internals.Voxel, internals.TF, &budget);
     internals.Conversion = budget;
     if (!error.empty())
     {
@@ -519,7 +553,11 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     {
       vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
-    internals.VisibleBlocks = internals.Ranges.GetMap().Classify(internals.TF);
+    const an::MixtureTransferFunction<double>& medium = internals.Mixture.Mixture;
+    internals.VisibleBlocks = mixture
+      ? internals.Ranges.GetMap().ClassifyBlocks(
+          [&medium](const double* lo, const double* hi) { return medium.IsVisible(lo, hi); })
+      : internals.Ranges.GetMap().Classify(internals.TF);
     internals.PropertyTime = property->GetMTime();
     internals.OpacityModel = this->OpacityModel;
     internals.ClassifiedVoxel = internals.Voxel;
@@ -550,7 +588,9 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
     if (internals.PiecesTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
       relativeError != internals.PiecesRelativeError)
     {
-      const std::string error = internals.Pieces.Build(internals.TF, relativeError);
+      const std::string error = internals.Components > 1
+        ? internals.MixturePieces.Build(internals.Mixture.Mixture, relativeError)
+        : internals.Pieces.Build(internals.TF, relativeError);
       if (!error.empty())
       {
         vtkErrorMacro(<< "The piecewise method cannot use this transfer function at tolerance "
@@ -588,10 +628,11 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // indices take the scalar sum; shaded sums too: the kernels do not shade),
   // and the scalars alone for the piecewise method's cells where they are 8-
   // or 16-bit unsigned (the only ones the cells' kernel reads).
-  // (The kernels read the trilinear interpolant only.)
-  const bool trilinear = internals.View.Field == avos::engine::ScalarField::Trilinear;
-  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade && trilinear;
-  const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && trilinear &&
+  // (The kernels read the trilinear interpolant of a single component only.)
+  const bool readable =
+    internals.View.Field == avos::engine::ScalarField::Trilinear && internals.Components == 1;
+  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade && readable;
+  const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && readable &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
   const avos::engine::Volume* kernelScalars =
     riemann || cells ? internals.EngineScalars.Update(scalars, internals.Dimensions) : nullptr;
@@ -724,7 +765,10 @@ void vtkAdaptiveVolumeMapper::SetUpMethod()
   method.ScalarMaximum = internals.DataRange[1] > internals.DataRange[0]
     ? internals.DataRange[1]
     : internals.DataRange[0] + 1.0;
-  method.Pieces = internals.Piecewise ? &internals.Pieces : nullptr;
+  const bool mixture = internals.Components > 1;
+  method.Pieces = internals.Piecewise && !mixture ? &internals.Pieces : nullptr;
+  method.Mixture = mixture ? &internals.Mixture.Mixture : nullptr;
+  method.MixturePieces = internals.Piecewise && mixture ? &internals.MixturePieces : nullptr;
   method.EngineVolume = internals.RiemannScalars;
   method.EngineTable = internals.RiemannScalars ? &internals.EngineTable : nullptr;
   method.Kernels = avos::engine::PieceKernels(internals.CellScalars);
