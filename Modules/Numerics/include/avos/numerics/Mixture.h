@@ -409,27 +409,34 @@ private:
 
 namespace detail
 {
-// A colour channel on a piece: a + b x(v), x a cubic in v from the piece's
-// start.
+// A term's colour on a piece: channel c is A[c] + B[c] x_c(v), x_c a cubic
+// in v from the piece's start, X[c] (Sources 3), or X[0] for all three
+// (Sources 1: a colour function of one scalar).
 template <typename Real>
-struct ChannelColour
+struct PieceColour
 {
-  Real A;
-  Real B;
-  Cubic<Real> X;
+  glm::vec<3, Real> A, B;
+  Cubic<Real> X[3];
+  int Sources;
+
+  const Cubic<Real>& Of(int c) const { return this->X[this->Sources == 1 ? 0 : c]; }
+  // x_c at v, each channel.
+  glm::vec<3, Real> At(Real v) const
+  {
+    return this->Sources == 1 ? glm::vec<3, Real>(this->X[0](v))
+                              : glm::vec<3, Real>(this->X[0](v), this->X[1](v), this->X[2](v));
+  }
 };
 
 // A visible term on a piece: its weight, its extinction's piece and the
-// cubic d(v) = s(v) - Start it takes, its colour per channel (Shared: the
-// three channels' X are one cubic).
+// cubic d(v) = s(v) - Start it takes, its colour.
 template <typename Real>
 struct PieceTerm
 {
   Real Weight;
   const typename PiecewiseTransferFunction<Real>::Piece* Extinction;
   Cubic<Real> D;
-  ChannelColour<Real> Colour[3];
-  bool Shared;
+  PieceColour<Real> Colour;
 };
 
 // Polynomials in v as coefficient arrays of fixed capacity.
@@ -439,32 +446,33 @@ struct Polynomial
   Real C[M] = {};
 };
 
-// tau(d(v)) = a + b d + c d^2 + e d^3 as a polynomial of degree up to 9.
+// tau(d(v)) = a + d (b + d (c + d e)) as a polynomial of degree up to 9
+// (Horner's rule on polynomials, from the highest non-zero coefficient).
 template <typename Real>
 Polynomial<Real, 10> ExtinctionPolynomial(
   const typename PiecewiseTransferFunction<Real>::Piece& p, const Cubic<Real>& d)
 {
-  Polynomial<Real, 10> tau;
-  Real power[10] = { Real(1) }; // d^j, degree 3 j
   const Real coefficient[4] = { p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic };
-  for (int j = 0; j < 4; ++j)
+  int top = 3;
+  while (top > 0 && coefficient[top] == Real(0))
   {
-    for (int i = 0; i <= 3 * j; ++i)
+    --top;
+  }
+  Polynomial<Real, 10> tau;
+  tau.C[0] = coefficient[top];
+  for (int j = top - 1, degree = 0; j >= 0; --j, degree += 3)
+  {
+    // tau = tau d + coefficient[j]: degree + 3.
+    Real next[10] = {};
+    for (int i = 0; i <= degree; ++i)
     {
-      tau.C[i] += coefficient[j] * power[i];
-    }
-    if (j < 3)
-    {
-      Real next[10] = {};
-      for (int i = 0; i <= 3 * j; ++i)
+      for (int k = 0; k < 4; ++k)
       {
-        for (int k = 0; k < 4; ++k)
-        {
-          next[i + k] += power[i] * d.K[k];
-        }
+        next[i + k] += tau.C[i] * d.K[k];
       }
-      std::copy(next, next + 10, power);
     }
+    next[0] += coefficient[j];
+    std::copy(next, next + 10, tau.C);
   }
   return tau;
 }
@@ -491,82 +499,92 @@ public:
 
   bool ByParts(const PieceTerm<Real>& term, glm::vec<3, Real>& colour) const
   {
-    const Real Tb = this->Ta * this->E;
-    Real cs = Real(0), midpointError = Real(0);
-    for (int c = 0; c < 3; ++c)
-    {
-      const ChannelColour<Real>& ch = term.Colour[c];
-      colour[c] += this->Ta * (ch.A + ch.B * ch.X.K[0]) - Tb * (ch.A + ch.B * ch.X(this->L));
-      cs = std::max(cs, std::abs(ch.B));
-      midpointError = std::max(midpointError, std::abs(ch.B * (ch.X(this->L) - ch.X.K[0])));
-    }
+    const PieceColour<Real>& pc = term.Colour;
+    const glm::vec<3, Real> x0 = pc.At(Real(0)), dx = pc.At(this->L) - x0;
+    colour += this->Ta * (pc.A + pc.B * x0) - (this->Ta * this->E) * (pc.A + pc.B * (x0 + dx));
+    const glm::vec<3, Real> change = glm::abs(pc.B * dx), slope = glm::abs(pc.B);
+    const Real cs = std::max({ slope.x, slope.y, slope.z });
     if (cs == Real(0) || this->Ta == Real(0))
     {
       return true;
     }
-    if (midpointError * this->Ta * (Real(1) - this->E) <= this->Share())
+    if (std::max({ change.x, change.y, change.z }) * this->Ta * (Real(1) - this->E) <=
+      this->Share())
     {
       // Each x_c is monotone: J_c within [dx_c E, dx_c], their midpoint.
-      for (int c = 0; c < 3; ++c)
-      {
-        const ChannelColour<Real>& ch = term.Colour[c];
-        colour[c] += ch.B * (this->Ta * (ch.X(this->L) - ch.X.K[0]) * (Real(1) + this->E) / 2);
-      }
+      colour += pc.B * dx * (this->Ta * (Real(1) + this->E) / Real(2));
       return true;
     }
-    // J of each distinct cubic: one where the channels share theirs.
+    // J of each distinct cubic.
     const Real scale = this->Budget / (Real(2) * cs * this->Ta);
-    if (term.Shared)
+    auto slopes = [&pc](int c, Real* g)
     {
-      const Cubic<Real>& x = term.Colour[0].X;
-      const Real g[1][3] = { { x.K[1], Real(2) * x.K[2], Real(3) * x.K[3] } };
-      Real J[1];
+      const Cubic<Real>& x = pc.X[c];
+      g[0] = x.K[1];
+      g[1] = Real(2) * x.K[2];
+      g[2] = Real(3) * x.K[3];
+    };
+    if (pc.Sources == 1)
+    {
+      Real g[1][3], J[1];
+      slopes(0, g[0]);
       if (!this->Series(g, scale, J))
       {
         return false;
       }
-      for (int c = 0; c < 3; ++c)
-      {
-        colour[c] += term.Colour[c].B * (this->Ta * J[0]);
-      }
+      colour += pc.B * (this->Ta * J[0]);
       return true;
     }
     Real g[3][3], J[3];
     for (int c = 0; c < 3; ++c)
     {
-      const Cubic<Real>& x = term.Colour[c].X;
-      g[c][0] = x.K[1];
-      g[c][1] = Real(2) * x.K[2];
-      g[c][2] = Real(3) * x.K[3];
+      slopes(c, g[c]);
     }
     if (!this->Series(g, scale, J))
     {
       return false;
     }
-    for (int c = 0; c < 3; ++c)
-    {
-      colour[c] += term.Colour[c].B * (this->Ta * J[c]);
-    }
+    colour += pc.B * glm::vec<3, Real>(J[0], J[1], J[2]) * this->Ta;
     return true;
   }
 
   bool Emissions(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
   {
-    // E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), degree <= 12.
-    Real emission[3][13] = {};
+    // Degree 6 where every extinction is linear in its scalar (the
+    // extinction model), 12 otherwise.
+    for (int t = 0; t < count; ++t)
+    {
+      const auto& e = *terms[t].Extinction;
+      if (e.TauCurvature != Real(0) || e.TauCubic != Real(0))
+      {
+        return this->EmissionsOf<13>(terms, count, colour);
+      }
+    }
+    return this->EmissionsOf<7>(terms, count, colour);
+  }
+
+private:
+  // Emissions with polynomials of M coefficients.
+  template <int M>
+  bool EmissionsOf(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
+  {
+    // E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)).
+    Real emission[3][M] = {};
     for (int t = 0; t < count; ++t)
     {
       const Polynomial<Real, 10> tau = ExtinctionPolynomial(*terms[t].Extinction, terms[t].D);
+      const PieceColour<Real>& pc = terms[t].Colour;
       for (int c = 0; c < 3; ++c)
       {
-        const ChannelColour<Real>& ch = terms[t].Colour[c];
-        const Real C[4] = { ch.A + ch.B * ch.X.K[0], ch.B * ch.X.K[1], ch.B * ch.X.K[2],
-          ch.B * ch.X.K[3] };
-        for (int i = 0; i < 10; ++i)
+        const Cubic<Real>& x = pc.Of(c);
+        const Real C[4] = { pc.A[c] + pc.B[c] * x.K[0], pc.B[c] * x.K[1], pc.B[c] * x.K[2],
+          pc.B[c] * x.K[3] };
+        for (int i = 0; i + 3 < M; ++i)
         {
+          const Real wt = terms[t].Weight * tau.C[i];
           for (int k = 0; k < 4; ++k)
           {
-            emission[c][i + k] += terms[t].Weight * tau.C[i] * C[k];
+            emission[c][i + k] += wt * C[k];
           }
         }
       }
@@ -580,8 +598,8 @@ public:
     Real whole[3], largest = Real(0);
     for (int c = 0; c < 3; ++c)
     {
-      Real integral = emission[c][12] * inverse.R[13];
-      for (int j = 11; j >= 0; --j)
+      Real integral = emission[c][M - 1] * inverse.R[M];
+      for (int j = M - 2; j >= 0; --j)
       {
         integral = emission[c][j] * inverse.R[j + 1] + this->L * integral;
       }
@@ -608,7 +626,6 @@ public:
     return true;
   }
 
-private:
   // What the piece's remainder may err by, times 2: budget (Ta (1 - E) + l / L).
   Real Share() const
   {
@@ -682,8 +699,14 @@ private:
       }
       Real* c = this->Corners[k];
       this->Volumes[k].GetCorners(cell[0], cell[1], cell[2], c);
-      this->Lo[k] = *std::min_element(c, c + 8);
-      this->Hi[k] = *std::max_element(c, c + 8);
+      Real lo = c[0], hi = c[0];
+      for (int i = 1; i < 8; ++i)
+      {
+        lo = std::min(lo, c[i]);
+        hi = std::max(hi, c[i]);
+      }
+      this->Lo[k] = lo;
+      this->Hi[k] = hi;
       // Finite only when every corner is (a NaN escapes min and max).
       const bool ok = std::isfinite(c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7]);
       finite |= ok ? (1u << k) : 0u;
@@ -695,10 +718,19 @@ private:
     for (const Term& t : this->Mixture.GetTerms())
     {
       const unsigned needs = (1u << t.Opacity) | (t.Direct ? 7u : (1u << t.Colour));
-      if ((finite & needs) == needs &&
-        t.Pieces->ClassifyRange(this->Lo[t.Opacity], this->Hi[t.Opacity]).Visible)
+      if ((finite & needs) != needs)
       {
-        this->Visible[count++] = &t;
+        continue;
+      }
+      const auto range = t.Pieces->ClassifyRange(this->Lo[t.Opacity], this->Hi[t.Opacity]);
+      if (range.Visible)
+      {
+        this->Visible[count] = &t;
+        this->Range[count] = range;
+        this->ColourRange[count] = t.Direct || t.Colour == t.Opacity
+          ? range
+          : t.Pieces->ClassifyRange(this->Lo[t.Colour], this->Hi[t.Colour]);
+        ++count;
         used |= needs;
       }
     }
@@ -710,27 +742,46 @@ private:
     const glm::vec<3, Real> entry = this->Origin + t0 * this->Direction -
       glm::vec<3, Real>(Real(cell[0]), Real(cell[1]), Real(cell[2]));
     const Real length = t1 - t0;
-    this->Cuts.assign({ Real(0), length });
     for (int k = 0; k < components; ++k)
     {
       if ((used >> k) & 1u)
       {
         this->S[k] = CellCubic(this->Corners[k], entry, this->Direction);
+      }
+    }
+    // Cuts: the crossings sought, each on a monotone stretch (cut at the
+    // cubic's extrema), and the extrema of every colour cubic (the
+    // remainder's bounds take it monotone).
+    this->Cuts.assign({ Real(0), length });
+    unsigned stretched = 0, monotone = 0;
+    for (int i = 0; i < count; ++i)
+    {
+      const Term& t = *this->Visible[i];
+      if (this->Range[i].Crossings)
+      {
+        this->Crossings(this->S[t.Opacity], *t.Pieces, length, true);
+        stretched |= 1u << t.Opacity;
+      }
+      if (!t.Direct && t.Colour != t.Opacity && this->ColourRange[i].Crossings)
+      {
+        this->Crossings(this->S[t.Colour], *t.Pieces, length, false);
+        stretched |= 1u << t.Colour;
+      }
+      monotone |= t.Direct ? 7u : (1u << t.Colour);
+    }
+    for (int k = 0; k < components; ++k)
+    {
+      if (((monotone & ~stretched) >> k) & 1u)
+      {
         Real extrema[2];
         const int n = Extrema(this->S[k], length, extrema);
         this->Cuts.insert(this->Cuts.end(), extrema, extrema + n);
       }
     }
-    for (int i = 0; i < count; ++i)
+    if (this->Cuts.size() > 2)
     {
-      const Term& t = *this->Visible[i];
-      this->Crossings(this->S[t.Opacity], *t.Pieces, length, true);
-      if (!t.Direct && t.Colour != t.Opacity)
-      {
-        this->Crossings(this->S[t.Colour], *t.Pieces, length, false);
-      }
+      std::sort(this->Cuts.begin(), this->Cuts.end());
     }
-    std::sort(this->Cuts.begin(), this->Cuts.end());
     for (std::size_t i = 0; i + 1 < this->Cuts.size(); ++i)
     {
       const Real u = this->Cuts[i], next = this->Cuts[i + 1];
@@ -742,8 +793,9 @@ private:
     return true;
   }
 
-  // The crossings of the knots of `pieces` by the cubic s over [0, length]
-  // into Cuts, on each monotone stretch; `visibleOnly`: only those that
+  // The extrema of the cubic s inside [0, length], and the crossings of the
+  // knots of `pieces` by s on each monotone stretch between them, into
+  // Cuts; `visibleOnly`: only those that
   // bound a visible piece of it (a knot between two transparent pieces
   // bounds nothing its term shows), else all (a colour's).
   void Crossings(const Cubic<Real>& s, const PiecewiseTransferFunction<Real>& pieces, Real length,
@@ -752,6 +804,7 @@ private:
     const std::vector<Real>& knots = pieces.GetKnots();
     Real bounds[4];
     const int count = StretchBounds(s, length, bounds);
+    this->Cuts.insert(this->Cuts.end(), bounds + 1, bounds + count - 1);
     for (int b = 0; b + 1 < count; ++b)
     {
       const Stretch<Real> st(s, bounds[b], bounds[b + 1], pieces);
@@ -774,7 +827,10 @@ private:
     {
       const Term& t = *this->Visible[i];
       const PiecewiseTransferFunction<Real>& pieces = *t.Pieces;
-      const std::size_t p = pieces.Locate(this->S[t.Opacity](middle));
+      // In a cell without crossings, the corners' lowest value's piece.
+      const std::size_t first = this->Range[i].First;
+      const std::size_t p =
+        this->Range[i].Crossings ? pieces.LocateNear(this->S[t.Opacity](middle), first) : first;
       if (!pieces.IsVisible(p))
       {
         continue;
@@ -784,31 +840,44 @@ private:
       term.Extinction = &pieces[p];
       term.D = this->S[t.Opacity].Shifted(u);
       term.D.K[0] -= pieces[p].Start;
-      term.Shared = !t.Direct;
-      for (int c = 0; c < 3; ++c)
+      PieceColour<Real>& pc = term.Colour;
+      if (t.Direct)
       {
-        ChannelColour<Real>& channel = term.Colour[c];
-        if (t.Direct)
+        pc.A = glm::vec<3, Real>(Real(0));
+        pc.B = glm::vec<3, Real>(this->Mixture.GetScale());
+        pc.Sources = 3;
+        for (int c = 0; c < 3; ++c)
         {
-          channel = { Real(0), this->Mixture.GetScale(), this->S[c].Shifted(u) };
-          continue;
+          pc.X[c] = this->S[c].Shifted(u);
         }
-        const auto& colour =
-          pieces[t.Colour == t.Opacity ? p : pieces.Locate(this->S[t.Colour](middle))];
-        channel = { colour.Colour[c], colour.ColourSlope[c], this->S[t.Colour].Shifted(u) };
-        channel.X.K[0] -= colour.Start;
+        continue;
       }
+      const std::size_t firstColour = this->ColourRange[i].First;
+      const std::size_t q = t.Colour == t.Opacity ? p
+        : this->ColourRange[i].Crossings ? pieces.LocateNear(this->S[t.Colour](middle), firstColour)
+                                         : firstColour;
+      const auto& colour = pieces[q];
+      pc.A = colour.Colour;
+      pc.B = colour.ColourSlope;
+      pc.Sources = 1;
+      pc.X[0] = this->S[t.Colour].Shifted(u);
+      pc.X[0].K[0] -= colour.Start;
     }
     if (n == 0)
     {
       return true;
     }
-    PieceDepth<Real> depth;
-    for (int i = 0; i < n; ++i)
+    auto depthOf = [&terms](int i)
     {
       const auto& e = *terms[i].Extinction;
-      depth.Add(PieceDepth<Real>(terms[i].D, e.Tau, e.TauSlope, e.TauCurvature, e.TauCubic),
-        terms[i].Weight);
+      const Real w = terms[i].Weight;
+      return PieceDepth<Real>(
+        terms[i].D, w * e.Tau, w * e.TauSlope, w * e.TauCurvature, w * e.TauCubic);
+    };
+    PieceDepth<Real> depth = depthOf(0);
+    for (int i = 1; i < n; ++i)
+    {
+      depth.Add(depthOf(i), Real(1));
     }
     const Real E = std::exp(-depth(l));
     RayStatistics<Real>& stats = this->Result.Statistics;
@@ -845,7 +914,11 @@ private:
   Real Corners[MaximumComponents][8];
   Real Lo[MaximumComponents], Hi[MaximumComponents];
   Cubic<Real> S[MaximumComponents];
+  // The terms that show in the cell, with the classes of their opacity's
+  // and their colour's ranges.
   const Term* Visible[MaximumComponents];
+  typename PiecewiseTransferFunction<Real>::RangeClass Range[MaximumComponents],
+    ColourRange[MaximumComponents];
   std::vector<Real> Cuts;
 };
 } // namespace detail
