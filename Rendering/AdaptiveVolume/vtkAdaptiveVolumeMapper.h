@@ -2,7 +2,7 @@
  * @class   vtkAdaptiveVolumeMapper
  * @brief   CPU ray casting mapper that integrates to a requested accuracy
  *
- * vtkAdaptiveVolumeMapper renders single-component vtkImageData with the
+ * vtkAdaptiveVolumeMapper renders vtkImageData of 1 to 4 components with the
  * emission-absorption model and chooses its steps along each ray to meet an
  * error tolerance, instead of taking a fixed sample distance: the iterative
  * adaptive Simpson rule of Campagnolo, Celes and de Figueiredo, "Accurate
@@ -29,6 +29,22 @@
  * the point scalars' (the piecewise method within eps, a field constant per
  * cell in one piece per region); only point scalars with linear
  * interpolation are shaded.
+ *
+ * Components. Scalars of 2 to 4 components are read as VTK's mappers read
+ * them, each component interpolated as one would be. Independent
+ * components (the property's default) each take the colour, scalar
+ * opacity, unit distance and weight of their index, and the volume is
+ * their mixture: its extinction the sum of the components' weighted
+ * extinctions, its emission the sum of their weighted emissions
+ * (avos/numerics/Mixture.h). Where at most one component shows this is
+ * VTK's image; where several show together VTK's mappers average their
+ * opacities per sample (sum a_k^2 / sum w_k a_k), which no extinction
+ * represents, while here densities add. Dependent components: two, the
+ * colour function of the first scalar and the opacity function of the
+ * second; four (unsigned char), RGB = the first three / 255 and the opacity
+ * function of the fourth. Every method takes them, the piecewise method
+ * within eps; projections, shading and gradient opacity of several
+ * components are refused.
  *
  * Opacity model. With SetOpacityModelToVTK() (the default) the scalar
  * opacity function is VTK's: an opacity accumulated over the property's
@@ -78,11 +94,11 @@
  * (unbounded at the light).
  *
  * Work is spread over vtkSMPTools threads by tiles of 16x16 pixels. Not
- * supported (an error says so and nothing is drawn): multi-component
- * scalars, shading other than point scalars with linear interpolation, the
- * isosurface and slice
- * blend modes, clipping planes with a
- * transform, cropping of inputs with a direction matrix or negative spacing.
+ * supported (an error says so and nothing is drawn): more than 4
+ * components, 3 dependent ones, shading other than point scalars of one
+ * component with linear interpolation, the isosurface and slice blend
+ * modes, clipping planes with a transform, cropping of inputs with a
+ * direction matrix or negative spacing.
  *
  * @sa vtkFixedPointVolumeRayCastMapper vtkGPUVolumeRayCastMapper
  */

@@ -6,6 +6,7 @@
 #include "avosTestHelpers.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkImageAppendComponents.h"
 #include "vtkImageCast.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
@@ -138,6 +139,13 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   refused(
     "cell scalars", "cell scalars are not supported by the GPU mapper",
     [&] { mapper->SetInputConnection(toCells->GetOutputPort()); },
+    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+  vtkNew<vtkImageAppendComponents> twoComponents;
+  twoComponents->AddInputConnection(source->GetOutputPort());
+  twoComponents->AddInputConnection(source->GetOutputPort());
+  refused(
+    "two components", "only single-component scalars are supported by this class",
+    [&] { mapper->SetInputConnection(twoComponents->GetOutputPort()); },
     [&] { mapper->SetInputConnection(source->GetOutputPort()); });
   vtkNew<vtkPiecewiseFunction> empty;
   refused(
