@@ -3,6 +3,7 @@
 #include "vtkDataArray.h"
 #include "vtkSMPTools.h"
 
+#include <algorithm>
 #include <functional>
 
 namespace avos
@@ -16,24 +17,28 @@ void ForLayers(int count, const std::function<void(int, int)>& body)
 }
 }
 
-bool EmptySpaceRanges::Update(vtkDataArray* scalars, const int dimensions[3], Samples samples)
+bool EmptySpaceRanges::Update(
+  vtkDataArray* scalars, const int dimensions[3], Samples samples, int component)
 {
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
   if (scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
-    dims == this->Dimensions && samples == this->Sampled)
+    dims == this->Dimensions && samples == this->Sampled && component == this->Component)
   {
     return true;
   }
   this->Map.SetDimensions(dimensions);
   std::size_t nans = 0;
+  const int tuple = scalars->GetNumberOfComponents();
+  const int components = component >= 0 ? 1 : tuple;
   switch (scalars->GetDataType())
   {
-    vtkTemplateMacro(
-      nans = this->Map.ComputeRanges(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0)),
-        ForLayers, samples, scalars->GetNumberOfComponents()));
+    vtkTemplateMacro(nans = this->Map.ComputeRanges(
+                       static_cast<const VTK_TT*>(scalars->GetVoidPointer(std::max(component, 0))),
+                       ForLayers, samples, components, tuple));
     default:
       return false;
   }
+  this->Component = component;
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();
   this->Dimensions = dims;

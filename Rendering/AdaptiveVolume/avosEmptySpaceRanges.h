@@ -24,10 +24,11 @@ public:
   using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
 
   /// Brings the ranges up to date for the scalars (each of their 1 to 4
-  /// components, a tuple per grid point of `dimensions`, or per cell, as
-  /// `samples` says). False, with nothing changed, for a scalar type the map
-  /// cannot read.
-  bool Update(vtkDataArray* scalars, const int dimensions[3], Samples samples = Samples::Points);
+  /// components, or only `component` when it is not negative, a tuple per
+  /// grid point of `dimensions`, or per cell, as `samples` says). False, with
+  /// nothing changed, for a scalar type the map cannot read.
+  bool Update(vtkDataArray* scalars, const int dimensions[3], Samples samples = Samples::Points,
+    int component = -1);
 
   avos::numerics::EmptySpaceMap<double>& GetMap() { return this->Map; }
   /// NaN scalars met by the last rebuild.
@@ -41,6 +42,7 @@ private:
   vtkMTimeType ScalarsTime = 0;
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
   Samples Sampled = Samples::Points;
+  int Component = -1;
   std::size_t NaNCount = 0;
   vtkTimeStamp Time;
 };

@@ -34,7 +34,8 @@ avos::engine::ScalarType TypeOf()
 }
 }
 
-bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view)
+bool ScalarsInPlace(
+  vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view, int component)
 {
   switch (scalars->GetDataType())
   {
@@ -42,8 +43,10 @@ bool ScalarsInPlace(vtkDataArray* scalars, const int dimensions[3], avos::engine
     default:
       return false;
   }
-  view.Data = scalars->GetVoidPointer(0);
-  view.Components = scalars->GetNumberOfComponents();
+  const int tuple = scalars->GetNumberOfComponents();
+  view.Data = scalars->GetVoidPointer(component >= 0 ? component : 0);
+  view.Components = component >= 0 ? 1 : tuple;
+  view.Stride = tuple;
   std::copy(dimensions, dimensions + 3, view.Dimensions);
   return true;
 }

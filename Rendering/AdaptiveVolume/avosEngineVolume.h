@@ -21,10 +21,11 @@ class vtkDataArray;
 namespace avos
 {
 /// The frame engine's view of scalars (a tuple of their components per grid
-/// point of `dimensions`), read in place (no copy); false for a type the
-/// engine does not read (bit, string and other non-numeric arrays).
+/// point of `dimensions`; only component `component` when it is not
+/// negative), read in place (no copy); false for a type the engine does not
+/// read (bit, string and other non-numeric arrays).
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ScalarsInPlace(
-  vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view);
+  vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view, int component = -1);
 
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EngineVolume
 {

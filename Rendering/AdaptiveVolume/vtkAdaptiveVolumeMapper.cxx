@@ -1,7 +1,9 @@
 #include "vtkAdaptiveVolumeMapper.h"
 
+#include "vtkArrayDispatch.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
+#include "vtkDataArrayRange.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
@@ -85,6 +87,29 @@ struct FrameKey
   }
 };
 
+// The Euclidean norm of each tuple into `out` (typed, in parallel).
+struct MagnitudeWorker
+{
+  template <typename Array>
+  void operator()(Array* array, vtkFloatArray* out)
+  {
+    const auto tuples = vtk::DataArrayTupleRange(array);
+    vtkSMPTools::For(0, static_cast<vtkIdType>(tuples.size()),
+      [&](vtkIdType begin, vtkIdType end)
+      {
+        for (vtkIdType i = begin; i < end; ++i)
+        {
+          double sum = 0.0;
+          for (const auto v : tuples[i])
+          {
+            sum += static_cast<double>(v) * static_cast<double>(v);
+          }
+          out->SetValue(i, static_cast<float>(std::sqrt(sum)));
+        }
+      });
+  }
+};
+
 // vtkSMPTools as the engine's parallel loop.
 void SMPFor(std::int64_t count, const std::function<void(std::int64_t, std::int64_t)>& body)
 {
@@ -101,10 +126,15 @@ public:
   an::AdaptiveSettings<double> Adaptive;
 
   // UpdateInput: the input's scalars (per point, or per cell; 1 to 4
-  // components) and grid.
+  // components, or one of them: Component, or their norms: Magnitude, kept
+  // until the scalars change) and grid.
   vtkDataArray* Scalars = nullptr;
   bool CellData = false;
   int Components = 1;
+  int Component = -1;
+  vtkNew<vtkFloatArray> Magnitude;
+  vtkDataArray* MagnitudeOf = nullptr; // identity only
+  vtkMTimeType MagnitudeTime = 0;
   int Dimensions[3] = { 0, 0, 0 };
 
   // UpdateGeometry: grid to world and back, the voxel unit; the clipping
@@ -361,10 +391,41 @@ vtkImageData* vtkAdaptiveVolumeMapper::UpdateInput()
     return nullptr;
   }
   input->GetDimensions(internals.Dimensions);
-  internals.Scalars = scalars;
   internals.CellData = cellFlag != 0;
-  internals.Components = scalars->GetNumberOfComponents();
+  internals.Scalars = this->ScalarsOfVectorMode(scalars);
+  internals.Components = internals.Component >= 0 ? 1 : internals.Scalars->GetNumberOfComponents();
   return input;
+}
+
+vtkDataArray* vtkAdaptiveVolumeMapper::ScalarsOfVectorMode(vtkDataArray* scalars)
+{
+  vtkInternals& internals = *this->Internals;
+  internals.Component = -1;
+  const int components = scalars->GetNumberOfComponents();
+  if (components == 1 || this->VectorMode == DISABLED)
+  {
+    return scalars;
+  }
+  if (this->VectorMode == COMPONENT)
+  {
+    internals.Component = std::min(this->VectorComponent, components - 1);
+    return scalars;
+  }
+  if (scalars != internals.MagnitudeOf || scalars->GetMTime() != internals.MagnitudeTime)
+  {
+    vtkFloatArray* magnitude = internals.Magnitude;
+    magnitude->SetName("Magnitude");
+    magnitude->SetNumberOfTuples(scalars->GetNumberOfTuples());
+    MagnitudeWorker worker;
+    if (!vtkArrayDispatch::Dispatch::Execute(scalars, worker, magnitude))
+    {
+      worker(scalars, magnitude);
+    }
+    magnitude->Modified();
+    internals.MagnitudeOf = scalars;
+    internals.MagnitudeTime = scalars->GetMTime();
+  }
+  return internals.Magnitude;
 }
 
 bool vtkAdaptiveVolumeMapper::UpdateGeometry(vtkImageData* input, vtkVolume* vol)
@@ -437,8 +498,8 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
     : field == Field::CellCentres               ? Samples::CellCentres
                                                 : Samples::Points;
   // The empty-space ranges, when the scalars or their field changed.
-  if (!internals.Ranges.Update(scalars, internals.Dimensions, samples) ||
-    !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View))
+  if (!internals.Ranges.Update(scalars, internals.Dimensions, samples, internals.Component) ||
+    !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View, internals.Component))
   {
     vtkErrorMacro(<< "Unsupported scalar type " << scalars->GetDataTypeAsString() << ".");
     return false;
@@ -458,7 +519,7 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
   internals.View.Field = field;
   // Bounds of the trilinear field (every component's), and the projections'
   // normalisation.
-  scalars->GetRange(internals.DataRange, 0);
+  scalars->GetRange(internals.DataRange, std::max(internals.Component, 0));
   for (int k = 1; k < internals.Components; ++k)
   {
     const double* range = scalars->GetRange(k);
@@ -630,7 +691,7 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // or 16-bit unsigned (the only ones the cells' kernel reads).
   // (The kernels read the trilinear interpolant of a single component only.)
   const bool readable =
-    internals.View.Field == avos::engine::ScalarField::Trilinear && internals.Components == 1;
+    internals.View.Field == avos::engine::ScalarField::Trilinear && internals.View.GetStride() == 1;
   const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade && readable;
   const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && readable &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
@@ -954,6 +1015,8 @@ void vtkAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "IntegrationMethod: " << this->GetIntegrationMethodAsString() << "\n";
   os << indent << "OpacityModel: " << (this->OpacityModel == VTK_OPACITY ? "VTK" : "Extinction")
      << "\n";
+  os << indent << "VectorMode: " << this->VectorMode << "\n";
+  os << indent << "VectorComponent: " << this->VectorComponent << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "InitialStep: " << this->InitialStep << "\n";
   os << indent << "MinimumStep: " << this->MinimumStep << "\n";

@@ -171,6 +171,33 @@ public:
   void SetOpacityModelToExtinction() { this->SetOpacityModel(EXTINCTION_OPACITY); }
   ///@}
 
+  enum VectorModes
+  {
+    DISABLED = -1, // every component, as the property reads them
+    MAGNITUDE = 0, // the Euclidean norm of the components
+    COMPONENT = 1  // the component VectorComponent alone
+  };
+
+  ///@{
+  /**
+   * How scalars of several components are read, as vtkSmartVolumeMapper's
+   * VectorMode (ParaView sets it from the colour map's vector mode). DISABLED
+   * (the default) renders every component as the property says
+   * (independent or dependent components). MAGNITUDE renders the Euclidean
+   * norm of each tuple, one scalar through the property's first functions
+   * (the norms are a float copy of the scalars, kept until they change: the
+   * only copy the mapper makes). COMPONENT renders the component
+   * VectorComponent (the last one where there are fewer), read in place,
+   * through the property's first functions, where VTK's smart mapper copies
+   * them onto that component of the property. Scalars of one component are
+   * rendered as they are in every mode.
+   */
+  vtkSetClampMacro(VectorMode, int, DISABLED, COMPONENT);
+  vtkGetMacro(VectorMode, int);
+  vtkSetClampMacro(VectorComponent, int, 0, 3);
+  vtkGetMacro(VectorComponent, int);
+  ///@}
+
   ///@{
   /**
    * Adaptive methods: error tolerance eps per RGBA channel (default 0.01),
@@ -315,6 +342,9 @@ protected:
    */
   bool ValidateSettings();
   vtkImageData* UpdateInput();
+  /// The scalars the vector mode makes of the input's (the magnitude's
+  /// copy, or one component: internals' Component).
+  vtkDataArray* ScalarsOfVectorMode(vtkDataArray* scalars);
   bool UpdateGeometry(vtkImageData* input, vtkVolume* vol);
   bool UpdateScalars(vtkVolume* vol);
   bool UpdateProperty(vtkRenderer* ren, vtkVolume* vol);
@@ -338,6 +368,8 @@ protected:
 
   int IntegrationMethod = ADAPTIVE_COUPLED;
   int OpacityModel = VTK_OPACITY;
+  int VectorMode = DISABLED;
+  int VectorComponent = 0;
   double Tolerance = 0.01;
   double InitialStep = 0.5;
   double MinimumStep = 0.1;

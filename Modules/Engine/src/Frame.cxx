@@ -71,7 +71,7 @@ void DispatchVolume(const Scalars& scalars, F&& f)
     {
       using Storage = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
       using Constant = an::CellConstantVolume<double, Storage>;
-      const int n = scalars.Components;
+      const int n = scalars.Components, stride = scalars.GetStride();
       const int* dims = scalars.Dimensions;
       // make(k) is component k's field.
       auto with = [&](auto make)
@@ -86,15 +86,16 @@ void DispatchVolume(const Scalars& scalars, F&& f)
       {
         case ScalarField::Trilinear:
           return with(
-            [&](int k) { return an::TrilinearVolume<double, Storage>(data + k, dims, n); });
+            [&](int k) { return an::TrilinearVolume<double, Storage>(data + k, dims, stride); });
         case ScalarField::Nearest:
-          return with(
-            [&](int k) { return Constant(data + k, dims, Constant::Layout::NearestPoints, n); });
+          return with([&](int k)
+            { return Constant(data + k, dims, Constant::Layout::NearestPoints, stride); });
         case ScalarField::Cells:
-          return with([&](int k) { return Constant(data + k, dims, Constant::Layout::Cells, n); });
+          return with(
+            [&](int k) { return Constant(data + k, dims, Constant::Layout::Cells, stride); });
         case ScalarField::CellCentres:
           return with(
-            [&](int k) { return an::CellCentredVolume<double, Storage>(data + k, dims, n); });
+            [&](int k) { return an::CellCentredVolume<double, Storage>(data + k, dims, stride); });
       }
     });
 }
@@ -777,6 +778,14 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
     {
       return "the volume needs at least 2 points along each axis";
     }
+  }
+  if (scalars.GetStride() < scalars.Components)
+  {
+    return "a tuple's stride must hold its components";
+  }
+  if (scalars.GetStride() != 1 && (method.EngineVolume || method.Kernels.Scalars))
+  {
+    return "the engine's kernels read a single component of contiguous scalars";
   }
   if (scalars.Components != 1)
   {

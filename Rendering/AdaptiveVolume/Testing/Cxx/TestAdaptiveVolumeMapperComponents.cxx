@@ -15,7 +15,8 @@
 // step at least 5 times closer); the oracle with the weights ignored must differ
 // by more than 0.01 (it tells a wrong mixture from a right one); a second
 // component of opacity 0 leaves the first component's image; what the
-// mapper cannot honour is refused.
+// mapper cannot honour is refused. The vector modes render one component,
+// or the tuples' norms, as the one-component volume of them.
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -307,6 +308,61 @@ int TestAdaptiveVolumeMapperComponents(int, char*[])
   SetScalars<vtkUnsignedCharArray>(image, rgba, 4);
   mix.SetRGBOpacity(tf[0], 1.0 / 255.0);
   failures += Check("dependent RGB and opacity", scene, errors, rgba, 4, mix, nullptr);
+
+  // The vector modes: one component read in place (the second of three), or
+  // the tuples' norms, each through the property's first functions: the
+  // image of that component, or of the norms, as a one-component volume.
+  mapper->SetIntegrationMethodToPiecewiseAdaptive();
+  mapper->SetTolerance(1e-3);
+  std::vector<double> second, norms;
+  for (std::size_t i = 0; i < three.size(); i += 3)
+  {
+    second.push_back(three[i + 1]);
+    norms.push_back(
+      std::sqrt(three[i] * three[i] + three[i + 1] * three[i + 1] + three[i + 2] * three[i + 2]));
+  }
+  auto rendered = [&]()
+  {
+    scene.Window->Render();
+    std::vector<float> values(4 * Size * Size, -1.0f);
+    auto* drawn =
+      vtkFloatArray::SafeDownCast(mapper->GetRenderedImage()->GetPointData()->GetScalars());
+    for (std::size_t i = 0; drawn && i < values.size() && errors.None("vector mode"); ++i)
+    {
+      values[i] = drawn->GetValue(static_cast<vtkIdType>(i));
+    }
+    return values;
+  };
+  struct Mode
+  {
+    const char* Name;
+    int VectorMode;
+    const std::vector<double>* Alone;
+  };
+  for (const Mode mode : { Mode{ "component 1", vtkAdaptiveVolumeMapper::COMPONENT, &second },
+         Mode{ "magnitude", vtkAdaptiveVolumeMapper::MAGNITUDE, &norms } })
+  {
+    mapper->SetVectorMode(mode.VectorMode);
+    mapper->SetVectorComponent(1);
+    SetScalars<vtkDoubleArray>(image, three, 3);
+    const std::vector<float> of = rendered();
+    SetScalars<vtkDoubleArray>(image, *mode.Alone, 1);
+    const std::vector<float> own = rendered();
+    float difference = 0.0f, largest = 0.0f;
+    for (std::size_t i = 0; i < of.size(); ++i)
+    {
+      difference = std::max(difference, std::abs(of[i] - own[i]));
+      largest = std::max(largest, own[i]);
+    }
+    std::cout << mode.Name << ": " << difference << " from its own image (largest value " << largest
+              << ")\n";
+    if (!(difference <= 1e-6f) || largest < 0.2f)
+    {
+      std::cerr << "FAIL vector mode " << mode.Name << ": " << difference << " apart\n";
+      ++failures;
+    }
+  }
+  mapper->SetVectorMode(vtkAdaptiveVolumeMapper::DISABLED);
 
   // What is refused, never ignored.
   auto refused = [&](const char* what, const char* expected)

@@ -69,8 +69,9 @@ enum class ScalarField
 
 // A scalar volume read in place, x fastest: one tuple of Components values
 // (interleaved; 2 to 4 make a mixture, FrameMethod::Mixture) per grid point,
-// or per cell for the cell fields. Dimensions are the grid points' (the
-// box) in every field.
+// or per cell for the cell fields, Stride values from one tuple to the next
+// (0: Components; more: one component of wider tuples). Dimensions are the
+// grid points' (the box) in every field.
 struct Scalars
 {
   const void* Data = nullptr;
@@ -78,6 +79,9 @@ struct Scalars
   int Dimensions[3] = { 0, 0, 0 };
   ScalarField Field = ScalarField::Trilinear;
   int Components = 1;
+  int Stride = 0;
+
+  int GetStride() const { return this->Stride > 0 ? this->Stride : this->Components; }
 };
 
 // How a ray is integrated (vtkAdaptiveVolumeMapper's IntegrationMethod).

@@ -113,7 +113,9 @@ public:
   static constexpr int MaximumComponents = 4;
 
   // Fills every block's range of each of the `components` (1 to 4, values
-  // interleaved: a tuple per point or cell) from the scalars, x fastest;
+  // interleaved: a tuple per point or cell, `stride` values from one tuple
+  // to the next, at least `components`; 0: `components`) from the scalars,
+  // x fastest;
   // `forLayers(count, body)` runs body(begin, end) over z-layers of blocks
   // [0, count) (layers are independent: it may run them in parallel).
   // Returns the number of NaN values met. Integer scalars of 16 bits or
@@ -122,7 +124,7 @@ public:
   // transparent is transparent.
   template <typename Storage, typename ForLayers>
   std::size_t ComputeRanges(const Storage* data, ForLayers&& forLayers,
-    Samples samples = Samples::Points, int components = 1)
+    Samples samples = Samples::Points, int components = 1, int stride = 0)
   {
     // The values a block's cells [first, last) read: points first..last,
     // cells first..last - 1, or those and their neighbours (spread 1).
@@ -130,6 +132,7 @@ public:
     const int spread = samples == Samples::CellCentres ? 1 : 0;
     constexpr bool keyed = std::is_integral<Storage>::value && sizeof(Storage) <= 2;
     this->Components = std::min(std::max(components, 1), MaximumComponents);
+    this->Stride = std::max(stride, this->Components);
     this->KeyOffset = keyed && std::is_signed<Storage>::value ? 32768 : 0;
     const std::size_t entries = 2 * this->BlockCount * static_cast<std::size_t>(this->Components);
     if (keyed)
@@ -152,10 +155,10 @@ public:
   // The same in the calling thread.
   template <typename Storage>
   std::size_t ComputeRanges(
-    const Storage* data, Samples samples = Samples::Points, int components = 1)
+    const Storage* data, Samples samples = Samples::Points, int components = 1, int stride = 0)
   {
     return this->ComputeRanges(
-      data, [](int count, auto&& body) { body(0, count); }, samples, components);
+      data, [](int count, auto&& body) { body(0, count); }, samples, components, stride);
   }
 
   int GetNumberOfComponents() const { return this->Components; }
@@ -448,8 +451,8 @@ private:
   std::size_t BlockRange(const Storage* data, int reach, const int first[3], const int from[3],
     const int to[3], double* lo, double* hi) const
   {
-    const int n = this->Components;
-    const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(this->Dimensions[0] - reach) * n;
+    const int n = this->Components, stride = this->Stride;
+    const std::ptrdiff_t sy = static_cast<std::ptrdiff_t>(this->Dimensions[0] - reach) * stride;
     const std::ptrdiff_t sz = sy * (this->Dimensions[1] - reach);
     std::fill(lo, lo + n, std::numeric_limits<double>::infinity());
     std::fill(hi, hi + n, -std::numeric_limits<double>::infinity());
@@ -467,7 +470,7 @@ private:
         {
           for (int c = 0; c < n; ++c)
           {
-            const double v = double(row[i * n + c]);
+            const double v = double(row[i * stride + c]);
             if (v != v)
             {
               nans += owns(0, i) && owns(1, j) && owns(2, k) ? 1 : 0;
@@ -535,7 +538,7 @@ private:
   int Supers[3] = { 0, 0, 0 };
   // Minimum and maximum per block and component, (2 (block Components +
   // component), + 1): Keys (value + KeyOffset) or Floats.
-  int Components = 1;
+  int Components = 1, Stride = 1;
   std::vector<std::uint16_t> Keys;
   std::vector<float> Floats;
   int KeyOffset = 0;
