@@ -5,7 +5,8 @@
 # its work) and the totals are compared with the one-process run
 # (Plugin/Testing/ComparePieces.py); volume images with the "AVoS Volume"
 # representation on 1, 2 and 4 ranks against the one-process image, within
-# what ParaView's compositing costs its own mapper (VolumeImages.py);
+# what ParaView's compositing costs its own mapper (VolumeImages.py); the
+# options ParaView's volume representation passes (VolumeOptions.py);
 # pvpython turns a .tf1d file into a preset (Tf1dPreset.py); then the time
 # and memory per rank on a larger volume are printed (Plugin/Testing/
 # Scaling.py: figures, not assertions).
@@ -68,6 +69,8 @@ for ranks in 1 2 4; do
 done
 timeout 600 xvfb-run -a -s "$xvfb" pvbatch "$image" "$plugin" "$data" "$out/avos-riemann.png" "AVoS Volume" Riemann
 /usr/bin/python3 "$root/Plugin/Testing/VolumeImages.py" "$out"
+echo "== the options ParaView's volume representation passes (VolumeOptions.py)"
+timeout 600 xvfb-run -a -s "$xvfb" pvbatch "$root/Plugin/Testing/VolumeOptions.py" "$plugin" "$data"
 echo "== a .tf1d file as a ParaView preset"
 timeout 600 xvfb-run -a -s "$xvfb" pvpython "$root/Plugin/Testing/Tf1dPreset.py" "$plugin" \
   "$data/tf/Bonsai.1.256x256x256.linear.tf1d" "$out" 2>&1 | tee "$out/preset.log"

@@ -199,6 +199,15 @@ void DivergingEnds(const double rgb1[3], const double rgb2[3], avos::NodeInterpo
   }
 }
 
+// VTK's continuous colour function at x: what VTK's volume mappers tabulate
+// (vtkColorTransferFunction::GetTable). A subclass's GetColor may differ:
+// ParaView's colour maps (vtkDiscretizableColorTransferFunction, Discretize
+// on by default) return one of 256 steps, which no volume mapper draws.
+void ContinuousColor(vtkColorTransferFunction* color, double x, double rgb[3])
+{
+  color->vtkColorTransferFunction::GetColor(x, rgb);
+}
+
 // VTK takes a colour function's log scale only where every node is positive.
 bool UsesLogScale(vtkColorTransferFunction* color)
 {
@@ -372,7 +381,7 @@ bool AddCertifiedInterval(vtkColorTransferFunction* color, int index, double xm,
   auto value = [color](double x)
   {
     std::array<double, 3> rgb;
-    color->GetColor(x, rgb.data());
+    ContinuousColor(color, x, rgb.data());
     for (double& c : rgb)
     {
       c = ClampRounding(c);
@@ -558,7 +567,7 @@ std::string ConvertColor(vtkVolumeProperty* property, int component, bool sameSc
     }
     AddInterval<3>(
       node[0], node + 1, next[0], next + 1, xm, shape, addColour,
-      [color](double s, double* rgb) { color->GetColor(s, rgb); }, budget.Approximated);
+      [color](double s, double* rgb) { ContinuousColor(color, s, rgb); }, budget.Approximated);
   }
   addColour(last[0], above);
   for (const auto& k : knots)

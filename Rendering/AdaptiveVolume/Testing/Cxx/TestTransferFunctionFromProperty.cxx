@@ -10,13 +10,16 @@
 // models keep the extinction budget's hypothesis and a gray curve its
 // colour budget; outside the nodes the colours and
 // opacities are VTK's (clamped, range colours, none without clamping);
-// VTK's rounding above 1 is clamped, a real excess refused.
+// VTK's rounding above 1 is clamped, a real excess refused; ParaView's
+// discretized colour maps are taken as volume mappers take them
+// (continuous).
 #include "avosNodeInterpolation.h"
 #include "avosTransferFunctionFromProperty.h"
 
 #include "avos/numerics/Linearization.h"
 
 #include "vtkColorTransferFunction.h"
+#include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkVolumeProperty.h"
@@ -230,6 +233,47 @@ int TestTransferFunctionFromProperty(int, char*[])
       Expect(c.Convert().empty() && c.Approximated == static_cast<int>(map.Nodes.size()) - 1,
         std::string(map.Name) + ": resampled and reported without a tolerance");
     }
+  }
+  {
+    // ParaView's default colour map as ParaView builds it: Cool to Warm
+    // through white in a vtkDiscretizableColorTransferFunction discretized
+    // to 256 colours. Volume mappers tabulate the continuous function
+    // (GetTable), GetColor returns the steps: the conversion takes the
+    // continuous one, certified, where the steps are 1/512 of the range away.
+    vtkNew<vtkDiscretizableColorTransferFunction> paraview;
+    paraview->SetColorSpaceToDiverging();
+    paraview->AddRGBPoint(0.0, 0.231373, 0.298039, 0.752941);
+    paraview->AddRGBPoint(127.5, 0.865003, 0.865003, 0.865003);
+    paraview->AddRGBPoint(255.0, 0.705882, 0.0156863, 0.14902);
+    paraview->DiscretizeOn();
+    paraview->SetNumberOfValues(256);
+    paraview->Build();
+    Case c;
+    c.Property->SetColor(paraview);
+    c.Opacity->AddPoint(0.0, 0.0);
+    c.Opacity->AddPoint(255.0, 1.0);
+    Expect(c.Convert(ColourBudget(1e-4)).empty(), "ParaView's colour map converts");
+    Expect(c.Budget.CertifiedColour == 2 && c.Approximated == 0,
+      "ParaView's discretized colour map is certified (its continuous function)");
+    // Off the nodes themselves, where VTK gives the node's own colour, not
+    // the interpolation's limit (1.3e-4 apart at 255 here: one point, which
+    // no integral sees).
+    double continuous = 0.0, steps = 0.0;
+    for (int i = 0; i < 20000; ++i)
+    {
+      const double s = 255.0 * (i + 0.5) / 20000.0;
+      double smooth[3], stepped[3];
+      paraview->vtkColorTransferFunction::GetColor(s, smooth);
+      paraview->GetColor(s, stepped);
+      const auto ours = c.Function.GetColor(s);
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        continuous = std::max(continuous, std::abs(ours[ch] - smooth[ch]));
+        steps = std::max(steps, std::abs(stepped[ch] - smooth[ch]));
+      }
+    }
+    Expect(continuous <= 1e-4, "within the tolerance of the continuous colours");
+    Expect(steps > 1e-3, "GetColor's steps differ from them (the test can tell)");
   }
   {
     // CIEDE2000 (a path searched through L*a*b*) is not modelled: reported.
