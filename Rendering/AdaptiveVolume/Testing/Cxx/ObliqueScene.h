@@ -11,10 +11,12 @@
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTrivialProducer.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -51,6 +53,23 @@ struct Scene
     camera->Elevation(35.0);
     camera->OrthogonalizeViewUp();
     this->Renderer->ResetCameraClippingRange();
+  }
+};
+
+// An image of points^3 grid points on [-1, 1]^3, without scalars (the test
+// sets them), behind a producer for Scene.
+struct Cube
+{
+  vtkNew<vtkImageData> Image;
+  vtkNew<vtkTrivialProducer> Producer;
+
+  explicit Cube(int points)
+  {
+    const double voxel = 2.0 / (points - 1);
+    this->Image->SetDimensions(points, points, points);
+    this->Image->SetOrigin(-1.0, -1.0, -1.0);
+    this->Image->SetSpacing(voxel, voxel, voxel);
+    this->Producer->SetOutput(this->Image);
   }
 };
 

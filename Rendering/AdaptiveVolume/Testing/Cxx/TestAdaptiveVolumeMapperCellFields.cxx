@@ -206,13 +206,9 @@ int TestAdaptiveVolumeMapperCellFields(int, char*[])
   vtkNew<vtkVolumeProperty> property;
   obliquescene::FillProperty(Knots, property, &tf);
   tf.Finalize();
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(Points, Points, Points);
-  image->SetOrigin(-1.0, -1.0, -1.0);
-  image->SetSpacing(Voxel, Voxel, Voxel);
-  vtkNew<vtkTrivialProducer> producer;
-  producer->SetOutput(image);
-  obliquescene::Scene scene(producer, property, Size);
+  obliquescene::Cube cube(Points);
+  vtkImageData* image = cube.Image;
+  obliquescene::Scene scene(cube.Producer, property, Size);
   vtkAdaptiveVolumeMapper* mapper = scene.Mapper;
   mapper->SetOpacityModelToExtinction();
   avostest::ExpectedErrors errors(mapper);

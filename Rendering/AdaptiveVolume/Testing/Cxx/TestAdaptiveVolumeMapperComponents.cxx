@@ -227,13 +227,9 @@ int TestAdaptiveVolumeMapperComponents(int, char*[])
   Fill(First, property, 0, tf[0]);
   Fill(Second, property, 1, tf[1]);
   Fill(Third, property, 2, tf[2]);
-  vtkNew<vtkImageData> image;
-  image->SetDimensions(Points, Points, Points);
-  image->SetOrigin(-1.0, -1.0, -1.0);
-  image->SetSpacing(Voxel, Voxel, Voxel);
-  vtkNew<vtkTrivialProducer> producer;
-  producer->SetOutput(image);
-  obliquescene::Scene scene(producer, property, Size);
+  obliquescene::Cube cube(Points);
+  vtkImageData* image = cube.Image;
+  obliquescene::Scene scene(cube.Producer, property, Size);
   vtkAdaptiveVolumeMapper* mapper = scene.Mapper;
   mapper->SetOpacityModelToExtinction();
   avostest::ExpectedErrors errors(mapper);
