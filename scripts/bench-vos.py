@@ -84,13 +84,20 @@ PAPER_FOOT = {"vertices": 120720, "polygons": 238816,
               "decimated": (5.8, 4.4, 2.9, 1.5, 1.3)}
 
 
-def load(name):
+def load(name, rate=2):
+    """The volume at every `rate`-th voxel, its closed isosurface, and the
+    transfer function's file."""
     volume_file, tf_file, iso, _ = DATASETS[name]
     reader = vtkXMLImageDataReader()
     reader.SetFileName(os.path.join(DATA, "volumes", volume_file))
-    volume = vtkExtractVOI()
-    volume.SetInputConnection(reader.GetOutputPort())
-    volume.SetSampleRate(2, 2, 2)
+    if rate == 1:
+        # (vtkExtractVOI at rate 1 makes VTK 9.1's XML reader read a
+        # sub-extent of these files and crash.)
+        volume = reader
+    else:
+        volume = vtkExtractVOI()
+        volume.SetInputConnection(reader.GetOutputPort())
+        volume.SetSampleRate(rate, rate, rate)
     volume.Update()
     # Closed where the visible volume meets the grid's boundary (Bonsai's
     # soil and pot are cut by it): contoured on the volume padded with one
@@ -110,11 +117,11 @@ def load(name):
     return volume, surface, os.path.join(DATA, "tf", tf_file)
 
 
-def make_property(tf_path, name):
+def make_property(tf_path, name, rate=2):
     tf = avos.vtkTransferFunction1DReader()
     tf.SetFileName(tf_path)
     tf.SetOpacityModelToVTK()
-    tf.SetUnitDistance(2)  # one voxel of the coarse grid
+    tf.SetUnitDistance(rate)  # one voxel of the grid rendered
     prop = vtkVolumeProperty()
     prop.SetInterpolationTypeToLinear()
     if not tf.FillVolumeProperty(prop):
