@@ -25,7 +25,7 @@ constexpr int ResampledKnots = 16;
 
 // VTK's colour-space conversions round: an HSV value of 1 comes back as
 // 1 + 2.2e-16. Colours and opacities within this of [0, 1] are clamped onto
-// it (far below any tolerance the methods take, 8e-7 at least); beyond it
+// it (far below any tolerance the methods take, 8e-12 at least); beyond it
 // they are refused by TransferFunction::Validate.
 constexpr double RoundingTolerance = 1e-12;
 

@@ -637,12 +637,11 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
   // shaded piecewise method at the reference's 1e-10 takes far longer.)
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
   internals.Piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
-    (this->IntegrationMethod == REFERENCE && this->OpacityModel == EXTINCTION_OPACITY &&
-      !internals.Shade);
+    (this->IntegrationMethod == REFERENCE && !internals.Shade);
   if (internals.Piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction
-    // model's pieces are exact); the reference never uses the alpha model here.
+    // model's pieces are exact).
     const double relativeError = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive
       ? an::PiecewiseRelativeError(internals.IntegrationTolerance)
       : an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>());

@@ -126,7 +126,7 @@ public:
     RIEMANN = 0,        // right-hand Riemann sum, step SampleDistance, T *= exp(-tau h)
     ADAPTIVE_COUPLED,   // the paper's adaptive Simpson, outer step restarted from the inner one
     ADAPTIVE_DECOUPLED, // the paper's adaptive Simpson, outer step carried on
-    REFERENCE,          // exact (1e-9) in the extinction model, adaptive at 1e-9 (1e-6) in VTK's
+    REFERENCE,          // exact to 1e-9 (the piecewise method at 1e-10); shaded: adaptive at 1e-9
     PIECEWISE_ADAPTIVE  // smooth pieces between cell faces and knot crossings, eps on any TF
   };
 
@@ -139,7 +139,7 @@ public:
    * whatever the transfer function (thin layers, spikes, jumps: no step
    * crosses a knot or a cell face, so nothing hides between samples; the
    * optical depth is exact in the extinction model; no step to tune, only
-   * the Tolerance, within [1e-12, 1], or [8e-7, 1] in VTK's opacity model).
+   * the Tolerance, within [1e-12, 1], or [8e-12, 1] in VTK's opacity model).
    * ADAPTIVE_COUPLED / DECOUPLED reproduce the paper (their error estimate
    * can miss features narrower than MaximumStep). RIEMANN for VTK's
    * fixed-step behaviour. REFERENCE for ground truth.
@@ -286,8 +286,8 @@ public:
    * Statistics of the last ray cast: wall time of the whole Render call in
    * seconds, rays that entered the volume's box, samples (transfer-function
    * evaluations) per such ray, steps rejected by the error control, and for
-   * the piecewise methods (PIECEWISE_ADAPTIVE, REFERENCE in the extinction
-   * model) the cells with visible scalars and the smooth pieces per ray.
+   * the piecewise methods (PIECEWISE_ADAPTIVE, REFERENCE unshaded) the cells
+   * with visible scalars and the smooth pieces per ray.
    * LastRenderReused is true when nothing had changed and the previous image
    * was drawn again (the other figures then describe that image's ray cast).
    */

@@ -215,6 +215,40 @@ TEST(Piecewise, AlphaModelHoldsTolerance)
   }
 }
 
+// The reference in VTK's alpha model against its closed form: a ramp
+// s = 20 t along x through alpha rising linearly in s from 0 at 0 to 0.9 at
+// 255 (unit distance 1.5), a constant colour. With u = 1 - alpha(s(t)) =
+// 1 - b t, tau = -ln(u) / 1.5 and, as d/dt (u ln u - u) = -b ln u, the depth
+// over [0, D] is (u ln u - u + 1) / (1.5 b) at u = u(D); the colour is
+// c (1 - e^{-depth}). Within 1e-9 (the reference's 1e-10), where the
+// adaptive Simpson reference (1e-6) is no proof.
+TEST(Piecewise, AlphaModelReferenceIsExact)
+{
+  const int dims[3] = { 13, 3, 3 };
+  const std::vector<double> data = Grid(dims, [](int i, int, int) { return 20.0 * i; });
+  const Volume volume(data.data(), dims);
+  an::TransferFunction<double> tf;
+  tf.AddOpacityKnot(0.0, 0.0);
+  tf.AddOpacityKnot(255.0, 0.9);
+  tf.AddColorKnot(0.0, 0.3, 0.6, 0.9);
+  tf.SetOpacityModel(an::OpacityModel::Alpha, 1.5);
+  tf.Finalize();
+  const double eps = ReferenceTolerance;
+  const auto ptf = Prepare(tf, eps);
+  for (const double D : { 2.5, 7.0, 12.0 })
+  {
+    const double b = 0.9 * 20.0 / 255.0, u = 1.0 - b * D;
+    const double depth = (u * std::log(u) - u + 1.0) / (1.5 * b);
+    const double alpha = -std::expm1(-depth);
+    const auto r = an::IntegratePiecewise(volume, glm::dvec3(0.0, 1.0, 1.0),
+      glm::dvec3(1.0, 0.0, 0.0), D, ptf, eps, false);
+    ASSERT_EQ(r.Error, "");
+    EXPECT_NEAR(r.RGBA.a, alpha, 1e-9) << "D " << D;
+    EXPECT_NEAR(r.RGBA.r, 0.3 * alpha, 1e-9) << "D " << D;
+    EXPECT_NEAR(r.RGBA.b, 0.9 * alpha, 1e-9) << "D " << D;
+  }
+}
+
 // The alpha model's extinction, cubic between the extra knots, is
 // within the relative error r of -ln(1 - alpha) / d below the flat depth
 // (Pieces.h), sampled densely on every piece, for several r.
@@ -605,7 +639,7 @@ TEST(Piecewise, BadInput)
   an::TransferFunction<double> alpha = randomrays::Make<double>(0).TF;
   alpha.SetOpacityModel(an::OpacityModel::Alpha, 1.0);
   alpha.Finalize();
-  EXPECT_NE(p.Build(alpha, 1e-9), ""); // below the alpha model's floor
+  EXPECT_NE(p.Build(alpha, 1e-13), ""); // below the alpha model's floor
   EXPECT_EQ(p.Build(alpha, 1e-4), "");
 }
 

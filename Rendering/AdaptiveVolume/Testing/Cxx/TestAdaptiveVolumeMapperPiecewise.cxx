@@ -187,11 +187,11 @@ int TestAdaptiveVolumeMapperPiecewise(int argc, char* argv[])
     window->Render();
     check(errors.Check("tolerance 2", "must be in [1e-12, 1]") && Pixels(mapper).empty(),
       "tolerance 2 refused");
-    mapper->SetTolerance(1e-9); // below the alpha model's 8e-7
+    mapper->SetTolerance(2e-12); // below the alpha model's 8e-12
     window->Render();
-    check(errors.Check("tolerance 1e-9, VTK's model", "must be at least 8e-7") &&
+    check(errors.Check("tolerance 2e-12, VTK's model", "must be at least 8e-12") &&
         Pixels(mapper).empty(),
-      "tolerance 1e-9 refused in VTK's model");
+      "tolerance 2e-12 refused in VTK's model");
   }
 
   // The baseline: the piecewise image of the shell, extinction model.

@@ -85,8 +85,10 @@ public:
   // The most knots the alpha model's conversion may add: beyond, the
   // requested relative error is refused.
   static constexpr std::size_t MaximumKnots = std::size_t(1) << 20;
-  // The finest relative error of the alpha model's extinction it builds.
-  static constexpr Real MinimumRelativeError = Real(1e-7);
+  // The finest relative error of the alpha model's extinction it builds
+  // (far above double's rounding of tau; 997 pieces for an alpha ramp from
+  // 0 to 0.99, where 1e-7 takes 64).
+  static constexpr Real MinimumRelativeError = Real(1e-12);
   // -ln(1 - alpha) from which the alpha model's extra knots stop and the
   // rest, up to the opaque value, is one chord.
   static constexpr Real FlatDepth = Real(36);

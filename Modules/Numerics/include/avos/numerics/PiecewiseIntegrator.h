@@ -107,7 +107,7 @@ constexpr Real PiecewiseMinimumTolerance()
 }
 
 // Empty when the piecewise method can honour `tolerance` in `model`, else
-// why: within [1e-12, 1], and in VTK's alpha model at least 8e-7, whose
+// why: within [1e-12, 1], and in VTK's alpha model at least 8e-12, whose
 // extinction is approximated within a relative eps / 8 (Pieces.h builds no
 // finer than PiecewiseTransferFunction::MinimumRelativeError).
 template <typename Real>
@@ -120,14 +120,14 @@ std::string ValidatePiecewiseTolerance(Real tolerance, OpacityModel model)
   if (model == OpacityModel::Alpha &&
     !(PiecewiseRelativeError(tolerance) >= PiecewiseTransferFunction<Real>::MinimumRelativeError))
   {
-    return "in VTK's opacity model the piecewise method's tolerance must be at least 8e-7 (its "
+    return "in VTK's opacity model the piecewise method's tolerance must be at least 8e-12 (its "
            "extinction -ln(1 - alpha) is approximated within a relative eps / 8 between extra "
            "knots)";
   }
   return std::string();
 }
 
-// The tolerance of the exact piecewise reference (extinction model): the
+// The tolerance of the exact piecewise reference (both opacity models): the
 // error of a channel is below 1e-9 (TestPiecewise checks it against closed
 // forms).
 template <typename Real>
