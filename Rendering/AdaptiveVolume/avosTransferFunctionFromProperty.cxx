@@ -609,10 +609,9 @@ std::string ConvertOpacity(vtkVolumeProperty* property, int component, double pi
   return error.empty() ? error : "the scalar opacity function " + error;
 }
 
-// True when the gradient opacity of `component` changes anything: enabled
-// and not the constant 1 that VTK creates on first access (VTK's GPU mapper
-// accesses it).
-bool UsesGradientOpacity(vtkVolumeProperty* property, int component)
+} // namespace
+
+bool avos::UsesGradientOpacity(vtkVolumeProperty* property, int component)
 {
   if (property->GetDisableGradientOpacity(component) || !property->HasGradientOpacity(component))
   {
@@ -630,10 +629,26 @@ bool UsesGradientOpacity(vtkVolumeProperty* property, int component)
   }
   return false;
 }
-} // namespace
+
+std::string avos::GradientOpacityFromProperty(
+  vtkVolumeProperty* property, TransferFunction& tf, int& approximated)
+{
+  tf = TransferFunction();
+  tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  const std::string error = ConvertPiecewise(
+    property->GetGradientOpacity(0),
+    [&tf](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
+    [](int, double, auto&&) { return false; }, approximated);
+  if (!error.empty())
+  {
+    return "the gradient opacity function " + error;
+  }
+  tf.Finalize();
+  return tf.Validate();
+}
 
 std::string avos::UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading, bool nearest, int components)
+  vtkVolumeProperty* property, bool shading, bool nearest, int components, bool gradientOpacity)
 {
   if (!property)
   {
@@ -644,12 +659,12 @@ std::string avos::UnsupportedPropertySettings(
     return "Only trilinear interpolation is supported (the integrals are those of the trilinear "
            "field): call the property's SetInterpolationTypeToLinear()";
   }
-  bool gradientOpacity = false;
-  for (int k = 0; k < std::max(components, 1); ++k)
+  bool unsupportedGradient = false;
+  for (int k = gradientOpacity ? 1 : 0; k < std::max(components, 1); ++k)
   {
-    gradientOpacity = gradientOpacity || UsesGradientOpacity(property, k);
+    unsupportedGradient = unsupportedGradient || UsesGradientOpacity(property, k);
   }
-  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D || gradientOpacity)
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D || unsupportedGradient)
   {
     return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
            "opacity, no 2D transfer function";

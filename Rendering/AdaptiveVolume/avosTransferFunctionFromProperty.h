@@ -168,12 +168,31 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ApproximationNotice(int approxima
  * integrals do not honour (never ignored): nearest interpolation unless
  * `nearest` (the caller integrates the field constant per point region), a
  * gradient opacity of any of the first `components` that changes anything
- * (VTK's default constant 1 is accepted), a 2D transfer function,
+ * (UsesGradientOpacity) but the first component's where `gradientOpacity`
+ * (the caller scales by it), a 2D transfer function,
  * UseClippedVoxelIntensity, and shading unless `shading` (the caller lights
  * the emission).
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading = false, bool nearest = false, int components = 1);
+  vtkVolumeProperty* property, bool shading = false, bool nearest = false, int components = 1,
+  bool gradientOpacity = false);
+
+/**
+ * True when the gradient opacity of `component` changes anything: enabled
+ * and not the constant 1 that VTK creates on first access (VTK's GPU mapper
+ * accesses it).
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool UsesGradientOpacity(
+  vtkVolumeProperty* property, int component);
+
+/**
+ * The first component's gradient opacity function as the opacity knots of
+ * `tf` (replaced; one white colour knot), taken exactly where VTK
+ * interpolates it piecewise linearly and resampled with 16 knots per
+ * interval elsewhere (counted in `approximated`). Empty, or why not.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string GradientOpacityFromProperty(
+  vtkVolumeProperty* property, avos::numerics::TransferFunction<double>& tf, int& approximated);
 }
 
 #endif

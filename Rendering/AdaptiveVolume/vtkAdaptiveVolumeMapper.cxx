@@ -167,6 +167,11 @@ public:
   std::size_t VisibleBlocks = 0;
   bool Shade = false;
   an::ShadingModel<double> Shading;
+  // UpdateGradientOpacity: the first component's gradient opacity, when it
+  // changes anything (FrameMethod::GradientOpacity points here).
+  bool UsesGradientOpacity = false;
+  TransferFunction GradientFunction;
+  an::GradientOpacity<double> Gradient;
   std::vector<double> ShadingKey;
   // The transfer function in pieces, built for a relative error (the alpha
   // model's share of the tolerance) when a piecewise method needs it.
@@ -535,7 +540,7 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
   const std::string unsupported =
-    avos::UnsupportedPropertySettings(property, true, true, internals.Components);
+    avos::UnsupportedPropertySettings(property, true, true, internals.Components, true);
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
@@ -626,7 +631,55 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   }
   internals.IntegrationTolerance =
     avos::IntegrationTolerance(this->Tolerance, internals.Conversion);
-  return this->UpdatePieces();
+  return this->UpdateGradientOpacity(property) && this->UpdatePieces();
+}
+
+bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
+{
+  vtkInternals& internals = *this->Internals;
+  internals.UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
+  if (!internals.UsesGradientOpacity)
+  {
+    return true;
+  }
+  const char* refused = internals.Components > 1 ? "scalars of several components"
+    : this->IntegrationMethod == PIECEWISE_ADAPTIVE
+    ? "the piecewise method (its extinction is then no polynomial along a piece; the sampled "
+      "methods take it: Riemann, AdaptiveCoupled, AdaptiveDecoupled, Reference)"
+    : this->BlendMode != COMPOSITE_BLEND ? "projections"
+    : internals.View.Field != avos::engine::ScalarField::Trilinear
+    ? "a field constant per cell (it has no gradient)"
+    : nullptr;
+  if (refused)
+  {
+    vtkErrorMacro(<< "Gradient opacity is not supported with " << refused
+                  << "; disable the property's gradient opacity.");
+    return false;
+  }
+  int approximated = 0;
+  const std::string error =
+    avos::GradientOpacityFromProperty(property, internals.GradientFunction, approximated);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< "Unusable gradient opacity: " << error << ".");
+    return false;
+  }
+  if (approximated > 0)
+  {
+    vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
+  }
+  // Gradients in grid coordinates to world space (scalar units per world unit).
+  glm::dmat3 gridToWorld;
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      gridToWorld[c][r] = internals.GridToWorld->GetElement(r, c);
+    }
+  }
+  internals.Gradient.Function = &internals.GradientFunction;
+  internals.Gradient.NormalMatrix = glm::transpose(glm::inverse(gridToWorld));
+  return true;
 }
 
 bool vtkAdaptiveVolumeMapper::UpdatePieces()
@@ -637,7 +690,7 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
   // shaded piecewise method at the reference's 1e-10 takes far longer.)
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
   internals.Piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
-    (this->IntegrationMethod == REFERENCE && !internals.Shade);
+    (this->IntegrationMethod == REFERENCE && !internals.Shade && !internals.UsesGradientOpacity);
   if (internals.Piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction
@@ -691,7 +744,8 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // (The kernels read the trilinear interpolant of a single component only.)
   const bool readable =
     internals.View.Field == avos::engine::ScalarField::Trilinear && internals.View.GetStride() == 1;
-  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade && readable;
+  const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade &&
+    !internals.UsesGradientOpacity && readable;
   const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && readable &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
   const avos::engine::Volume* kernelScalars =
@@ -837,6 +891,7 @@ void vtkAdaptiveVolumeMapper::SetUpMethod()
   {
     avos::ShadeWith(internals.Shading, internals.GridToWorld->GetData(), method);
   }
+  method.GradientOpacity = internals.UsesGradientOpacity ? &internals.Gradient : nullptr;
 }
 
 bool vtkAdaptiveVolumeMapper::CastFrame(vtkRenderer* ren)

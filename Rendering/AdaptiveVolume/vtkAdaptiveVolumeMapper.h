@@ -82,6 +82,18 @@
  * (within the tolerance); grey, opaque where the ray meets the volume (the
  * range).
  *
+ * Gradient opacity (the first component's): the extinction times G(g), g
+ * the magnitude of the exact gradient of the trilinear field in scalar
+ * units per world unit, in both opacity models (avos/numerics/
+ * GradientOpacity.h: VTK's mappers multiply a sample's step-corrected
+ * opacity by G, whose limit as the step shrinks is that extinction; their
+ * gradients are finite differences, VTK's GPU mapper's in scalar units per
+ * average voxel spacing, divided by a quarter of the data's range and
+ * clamped to 1). The sampled methods (Riemann, adaptive, the reference)
+ * take it; the piecewise method refuses it (its extinction is then not a
+ * polynomial along a piece), and so do projections and fields constant per
+ * cell.
+ *
  * Shading (the property's Shade, ambient, diffuse, specular and specular
  * power, the renderer's switched-on lights: directional, and positional with
  * their attenuation and spot cone as VTK's GPU mapper applies them): the
@@ -113,6 +125,7 @@
 class vtkImageData;
 class vtkRayCastImageDisplayHelper;
 class vtkTable;
+class vtkVolumeProperty;
 
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT vtkAdaptiveVolumeMapper : public vtkVolumeMapper
 {
@@ -348,6 +361,7 @@ protected:
   bool UpdateGeometry(vtkImageData* input, vtkVolume* vol);
   bool UpdateScalars(vtkVolume* vol);
   bool UpdateProperty(vtkRenderer* ren, vtkVolume* vol);
+  bool UpdateGradientOpacity(vtkVolumeProperty* property);
   bool UpdatePieces();
   bool UpdateKernelTables();
   bool SetUpFrame(vtkRenderer* ren, vtkVolume* vol);

@@ -133,10 +133,11 @@ glm::dvec4 Multiply(const double m[16], const glm::dvec4& p)
 }
 
 // Whether the Riemann sums run in the kernel's float lanes: its volume is
-// given and the rays are not shaded (the kernels do not shade).
+// given and the rays are neither shaded nor scaled by gradient opacity (the
+// kernels do neither).
 bool RiemannKernel(const FrameMethod& method)
 {
-  return method.EngineVolume && !method.Shading;
+  return method.EngineVolume && !method.Shading && !method.GradientOpacity;
 }
 
 // The shading of the ray start + t direction (grid coordinates): towards
@@ -151,20 +152,38 @@ an::RayShading<double> ShadingOf(
 
 // Calls f(field) with the ray start + t direction's field (grid coordinates):
 // shaded when the method shades, the scalar alone otherwise.
+// Calls f(field) with `field`, its extinction scaled by the method's gradient
+// opacity where it has one.
+template <typename Field, typename F>
+an::RayResult<double> WithOpacity(const FrameMethod& method, const Field& field, F&& f)
+{
+  if (method.GradientOpacity)
+  {
+    return f(an::GradientOpacityField<double, Field>{ field, method.GradientOpacity });
+  }
+  return f(field);
+}
+
 template <typename VolumeT, typename F>
 an::RayResult<double> WithField(const VolumeT& volume, const FrameMethod& method,
   const glm::dvec3& start, const glm::dvec3& direction, F&& f)
 {
-  // (Validate refuses shaded mixtures.)
+  // (Validate refuses shaded mixtures, and their gradient opacity.)
   if constexpr (!IsMixture<VolumeT>::value)
   {
     if (method.Shading)
     {
-      return f(an::ShadedRayField<double, VolumeT>{
-        volume, start, direction, ShadingOf(method, start, direction) });
+      return WithOpacity(method,
+        an::ShadedRayField<double, VolumeT>{
+          volume, start, direction, ShadingOf(method, start, direction) },
+        f);
     }
+    return WithOpacity(method, an::RayField<double, VolumeT>{ volume, start, direction }, f);
   }
-  return f(an::RayField<double, VolumeT>{ volume, start, direction });
+  else
+  {
+    return f(an::RayField<double, VolumeT>{ volume, start, direction });
+  }
 }
 
 // The Riemann sum over the kept parts of a ray, each its own ray from its
@@ -323,7 +342,7 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
         });
       return;
     case Integration::Reference:
-      result = method.Pieces
+      result = method.Pieces && !method.GradientOpacity
         ? an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
             *method.Pieces, an::PiecewiseReferenceTolerance<double>())
         : WithField(volume, method, origin, direction,
@@ -749,13 +768,41 @@ std::string ValidateMixture(const Scalars& scalars, const FrameMethod& method)
   {
     return "scalars of several components are composited only (no projections)";
   }
-  if (method.Shading)
+  if (method.Shading || method.GradientOpacity)
   {
-    return "scalars of several components are not shaded";
+    return "scalars of several components are not shaded, nor scaled by gradient opacity";
   }
   if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
   {
     return "the engine's kernels read a single component";
+  }
+  return std::string();
+}
+} // namespace
+
+namespace
+{
+// Empty when `method`'s gradient opacity can be cast.
+std::string ValidateGradientOpacity(const Scalars& scalars, const FrameMethod& method)
+{
+  const std::string error = method.GradientOpacity->Validate();
+  if (!error.empty())
+  {
+    return error;
+  }
+  if (method.Kind == Integration::Piecewise)
+  {
+    return "gradient opacity is integrated by the sampled methods (Riemann, adaptive, the "
+           "reference), not by the piecewise method";
+  }
+  if (method.Mode != Blend::Composite)
+  {
+    return "gradient opacity applies to the composite blend mode only";
+  }
+  if (scalars.Field != ScalarField::Trilinear)
+  {
+    return "gradient opacity needs point scalars with linear interpolation (a field constant per "
+           "cell has no gradient)";
   }
   return std::string();
 }
@@ -816,6 +863,14 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
   if (method.PieceTable && !(method.Kernels.Scalars && method.Pieces))
   {
     return "the piecewise rays per lane need the kernels' scalars and the pieces";
+  }
+  if (method.GradientOpacity)
+  {
+    const std::string error = ValidateGradientOpacity(scalars, method);
+    if (!error.empty())
+    {
+      return error;
+    }
   }
   if (scalars.Field != ScalarField::Trilinear)
   {

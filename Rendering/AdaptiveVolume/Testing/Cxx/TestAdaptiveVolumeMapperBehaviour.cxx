@@ -594,13 +594,21 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   Expect(errors.None("nearest interpolation"), "nearest interpolation is rendered");
   scene.Property->SetInterpolationTypeToLinear();
   // VTK's default gradient opacity (constant 1, created on first access)
-  // changes nothing and is accepted; a real one is refused.
+  // changes nothing and is accepted; a real one is rendered by the sampled
+  // methods and refused by the piecewise method.
   scene.Property->GetGradientOpacity()->RemoveAllPoints();
   scene.Property->GetGradientOpacity()->AddPoint(0.0, 1.0);
   scene.Window->Render();
   Expect(errors.None("constant gradient opacity"), "a constant 1 gradient opacity is accepted");
   scene.Property->GetGradientOpacity()->AddPoint(10.0, 0.2);
-  expectError("gradient opacity", "no gradient opacity");
+  const int before = scene.Mapper->GetIntegrationMethod();
+  scene.Mapper->SetIntegrationMethodToAdaptiveCoupled();
+  scene.Window->Render();
+  Expect(errors.None("gradient opacity, coupled"), "gradient opacity is rendered (coupled)");
+  scene.Mapper->SetIntegrationMethodToPiecewiseAdaptive();
+  expectError(
+    "gradient opacity, piecewise", "Gradient opacity is not supported with the piecewise method");
+  scene.Mapper->SetIntegrationMethod(before);
   scene.Property->DisableGradientOpacityOn();
   scene.Window->Render();
   Expect(errors.None("disabled gradient opacity"), "a disabled gradient opacity is accepted");

@@ -24,6 +24,7 @@
 #include "avos/numerics/Accumulation.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/GradientOpacity.h"
 #include "avos/numerics/Mixture.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
@@ -139,6 +140,9 @@ struct FrameMethod
   // map (x_world = GridToWorld x_grid + GridToWorldOffset: ray directions
   // and positional lights) and the normal matrix (grid gradients to world).
   const numerics::ShadingModel<double>* Shading = nullptr;
+  // Gradient opacity (null: none), its normal matrix set; the sampled
+  // methods only (Riemann, adaptive, the adaptive reference).
+  const numerics::GradientOpacity<double>* GradientOpacity = nullptr;
   glm::dmat3 GridToWorld{ 1.0 };
   glm::dvec3 GridToWorldOffset{ 0.0 };
   glm::dmat3 NormalMatrix{ 1.0 };

@@ -8,7 +8,9 @@
 // or a mixture's field giving its components' values and a
 // MixtureTransferFunction (Mixture.h).
 // A field with a member `Shade(t, colour)` (ShadedRayField, Shading.h) lights
-// each sample's colour: the emission is then tau C'(x) with C' in [0, 1].
+// each sample's colour: the emission is then tau C'(x) with C' in [0, 1]; one
+// with a member `Modulate(t, tau)` (GradientOpacityField, GradientOpacity.h)
+// scales each sample's extinction.
 // The colour I is premultiplied by opacity (RGB = I, A = alpha), black
 // background.
 //
@@ -211,6 +213,19 @@ struct Sample
   glm::vec<3, Real> Color;
 };
 
+// Fields with a Modulate(t, tau) member scale the extinction
+// (GradientOpacity.h).
+template <typename Field, typename Real, typename = void>
+struct IsModulated : std::false_type
+{
+};
+template <typename Field, typename Real>
+struct IsModulated<Field, Real,
+  std::void_t<decltype(std::declval<const Field&>().Modulate(Real(0), Real(0)))>>
+  : std::true_type
+{
+};
+
 // Fields with a Shade(t, colour) member light the emission (Shading.h).
 template <typename Field, typename Real, typename = void>
 struct IsShaded : std::false_type
@@ -249,6 +264,13 @@ public:
     Sample<Real, Value> sample;
     sample.Scalar = this->F(t);
     this->TF.Classify(sample.Scalar, sample.Tau, sample.Color);
+    if constexpr (IsModulated<Field, Real>::value)
+    {
+      if (sample.Tau > Real(0))
+      {
+        sample.Tau = this->F.Modulate(t, sample.Tau);
+      }
+    }
     if constexpr (IsShaded<Field, Real>::value)
     {
       if (sample.Tau > Real(0))
