@@ -19,11 +19,13 @@
 // The piecewise method (IntegratePiecewiseMixture). Inside a cell each
 // component's scalar is a cubic along the ray (Pieces.h), each transfer
 // function linear between its knots, so cutting the ray at every used
-// component's knot crossings and at the extrema of its cubic leaves pieces
-// on which the extinction is a polynomial of degree at most 3 (9 in VTK's
-// alpha model: Pieces.h's cubic in s) and each emission one of degree at
-// most 12, every cubic monotone. Then on a piece [0, l] (transmittance Ta
-// in front, theta the exact depth, PieceDepth summed over the terms):
+// component's knot crossings (sought on the monotone stretches between its
+// cubic's extrema) and at the extrema of every cubic a colour is linear in
+// leaves pieces on which the extinction is a polynomial of degree at most 3
+// (9 in VTK's alpha model: Pieces.h's cubic in s), each emission one of
+// degree at most 6 (12), and each colour's cubic monotone. Then on a piece
+// [0, l] (transmittance Ta in front, theta the exact depth, PieceDepth
+// summed over the terms):
 // - one visible term (the others transparent there, every dependent
 //   mixture): the emission is tau C with theta' = tau (the weight cancels),
 //   so by parts int tau C e^{-theta} = C(0) - C(l) e^{-theta(l)} +
@@ -43,7 +45,7 @@
 // then empty); the sampled methods agree, NaN samples being transparent.
 //
 // Termination: a ray crosses at most nx + ny + nz cells; each cell's cuts
-// are its extrema (2 per cubic) and knot crossings (at most 3 (m_k + 1) per
+// are extrema (2 per cubic) and knot crossings (at most 3 (m_k + 1) per
 // function, PieceWalk's bound), each found in at most 128 iterations; each
 // piece's remainder takes at most MaximumSubintervals sub-intervals of at
 // most 41 series terms (SeriesIntegrals), or the ray reports an error.
