@@ -94,6 +94,7 @@ struct MagnitudeWorker
   void operator()(Array* array, vtkFloatArray* out)
   {
     const auto tuples = vtk::DataArrayTupleRange(array);
+    float* norms = out->GetPointer(0);
     vtkSMPTools::For(0, static_cast<vtkIdType>(tuples.size()),
       [&](vtkIdType begin, vtkIdType end)
       {
@@ -104,7 +105,7 @@ struct MagnitudeWorker
           {
             sum += static_cast<double>(v) * static_cast<double>(v);
           }
-          out->SetValue(i, static_cast<float>(std::sqrt(sum)));
+          norms[i] = static_cast<float>(std::sqrt(sum));
         }
       });
   }

@@ -370,11 +370,14 @@ public:
     this->Count = mixture.GetNumberOfComponents();
     if (mix == ComponentMix::Independent)
     {
+      // A component of weight 0, or whose function is transparent
+      // everywhere, shows nothing: no term, its values never read.
       for (int k = 0; k < functions; ++k)
       {
-        if (mixture.GetWeight(k) > Real(0))
+        const PiecewiseTransferFunction<Real>& f = this->Functions[k];
+        if (mixture.GetWeight(k) > Real(0) && f.NextVisible(0) < f.GetNumberOfPieces())
         {
-          this->Terms.push_back({ k, k, false, mixture.GetWeight(k), &this->Functions[k] });
+          this->Terms.push_back({ k, k, false, mixture.GetWeight(k), &f });
         }
       }
     }
