@@ -687,11 +687,11 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
 {
   vtkInternals& internals = *this->Internals;
   // Transfer function -> pieces with polynomial extinction, for the
-  // piecewise methods. (A shaded reference is the adaptive one at 1e-9: the
-  // shaded piecewise method at the reference's 1e-10 takes far longer.)
+  // piecewise methods (the reference's too, shaded or not; with gradient
+  // opacity the reference is adaptive Simpson at 1e-9).
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
   internals.Piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
-    (this->IntegrationMethod == REFERENCE && !internals.Shade && !internals.UsesGradientOpacity);
+    (this->IntegrationMethod == REFERENCE && !internals.UsesGradientOpacity);
   if (internals.Piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction

@@ -139,7 +139,7 @@ public:
     RIEMANN = 0,        // right-hand Riemann sum, step SampleDistance, T *= exp(-tau h)
     ADAPTIVE_COUPLED,   // the paper's adaptive Simpson, outer step restarted from the inner one
     ADAPTIVE_DECOUPLED, // the paper's adaptive Simpson, outer step carried on
-    REFERENCE,          // exact to 1e-9 (the piecewise method at 1e-10); shaded: adaptive at 1e-9
+    REFERENCE,          // exact to 1e-9 (the piecewise method at 1e-10, shaded too)
     PIECEWISE_ADAPTIVE  // smooth pieces between cell faces and knot crossings, eps on any TF
   };
 

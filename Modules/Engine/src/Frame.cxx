@@ -342,12 +342,19 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
         });
       return;
     case Integration::Reference:
-      result = method.Pieces && !method.GradientOpacity
-        ? an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
-            *method.Pieces, an::PiecewiseReferenceTolerance<double>())
-        : WithField(volume, method, origin, direction,
-            [&](const auto& field)
-            { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
+      if (method.Pieces && !method.GradientOpacity)
+      {
+        const double tolerance = an::PiecewiseReferenceTolerance<double>();
+        result = method.Shading
+          ? an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
+              segments.size(), *method.Pieces, tolerance, ShadingOf(method, origin, direction))
+          : an::IntegratePiecewise(
+              volume, origin, direction, segments.data(), segments.size(), *method.Pieces, tolerance);
+        return;
+      }
+      result = WithField(volume, method, origin, direction,
+        [&](const auto& field)
+        { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       return;
     case Integration::Piecewise:
       if (method.Shading)

@@ -6,56 +6,53 @@
 // is tau(v) L(v), L the lit colour (LitColour): the colour C(s(v)) lit by the
 // exact gradient of the trilinear interpolant, whose world-space components
 // along the ray are quadratics in v. L has no closed-form integral against
-// tau T, so it is enclosed. On a sub-interval X = [v0, v1] of the piece, one
-// evaluation of LitColourOf on Jets (Enclosure.h; the piece's cubic and
-// gradient components enter as PolynomialJets of their coefficients)
-// encloses, per channel, L(X), and where L is smooth on X also L(c) and
-// L'(c) at X's centre c and L''(X).
-// Two approximations of L on X with proven errors:
-// - the constant P = mid L(X): |L - P| <= delta0 = width L(X) / 2;
-// - the quadratic P(v) = f + f1 (v - c) + f2 (v - c)^2 / 2, f, f1, f2 the
-//   midpoints of the enclosures of L(c), L'(c), L''(X): by Taylor's theorem
-//   |L - P| <= delta2 = w L(c) / 2 + w L'(c) r / 2 + w L''(X) r^2 / 4, r the
-//   radius of X (w the enclosure's width; delta2 shrinks as r^3).
+// tau T, so it is enclosed. On a sub-interval X = [v0, v1] of centre c, one
+// evaluation of LitColourOf on Taylor models of degree N (TaylorModel.h; the
+// piece's cubic, the gradient's quadratics and, for positional lights, the
+// world position enter as models of their coefficients) gives per channel a
+// polynomial P of degree N in y = v - c and a remainder R with |L - P| <= R
+// on X: R shrinks as r^(N+1) (r the radius of X) where L is smooth, and as
+// the kink's reach into X where n.l or n.h changes sign or the clamp
+// switches.
 // The weight tau T is positive and its integral over X is the transmittance
-// dT spent there, exactly, so |int_X (L - P) tau T| <= delta dT. The rest is
-// by parts (d/dv T = -tau T):
+// dT spent there, exactly, so |int_X (L - P) tau T| <= R dT. The rest is by
+// parts (d/dv T = -tau T):
 //   int_X P tau T = P(v0) T(v0) - P(v1) T(v1) + int_X P' T,
-// the last term 0 for the constant; for the quadratic (P' linear) T(v0) times
-// int_0^h P'(v0 + u) e^{-(theta(v0 + u) - theta(v0))} du, which the series of
-// PiecewiseIntegrator.h gives with a proven truncation error, the three
-// channels at once, or, where P' keeps its sign, the midpoint of its bounds
-// dP e^{-dtheta} and dP, within |dP| dT / 2 (second mean value theorem).
+// the last term T(v0) int_0^h P'(v0 + u) e^{-(theta(v0 + u) - theta(v0))} du,
+// which the series of PiecewiseIntegrator.h gives with a proven truncation
+// error, the three channels at once, or, where P' keeps its sign, the
+// midpoint of its bounds dP e^{-dtheta} and dP, within |dP| dT / 2 (second
+// mean value theorem).
 //
 // Tolerance eps, per channel:
 // - 0.55 eps for the lit colour: sub-interval X may err by its share,
 //   0.275 eps (dT + h / L) (h its length, L the ray's visible length), half
-//   for delta dT and half for the P' term; the shares of all sub-intervals
-//   add up to at most 0.55 eps (sum dT <= 1, sum h <= L).
+//   for R dT and half for the P' term; the shares of all sub-intervals add
+//   up to at most 0.55 eps (sum dT <= 1, sum h <= L).
 // - 0.05 eps for sub-intervals that reach the floor l 2^-40 without fitting
-//   their share (a kink of L, or a gradient vanishing at a point, inside):
-//   they take the constant, whose delta0 <= 1/2 (L is clamped to [0, 1]),
-//   and what they exceed their share by is summed; past 0.05 eps the ray
-//   reports an error instead of a colour outside the tolerance.
+//   their share (a jump of L, or a gradient vanishing at a point, inside):
+//   they take the constant, the middle of L's enclosure within [0, 1], within
+//   at most 1/2, and what they exceed their share by is summed; past 0.05 eps
+//   the ray reports an error instead of a colour outside the tolerance.
 // - 0.15 eps for early termination: the ray stops once T is below it (the
 //   lit colour is at most 1).
 // - 0.25 eps for VTK's alpha model, as without shading.
-// So every channel of every ray is within eps, up to rounding.
+// So every channel of every ray is within eps, up to rounding (the models
+// take their own rounding into R).
 //
 // Termination. A sub-interval is accepted (v advances by its length h, at
 // least the floor but at the piece's end; h then grows by the factor
 // NextLengthFactor predicts, within [1, 4], or doubles after a floor
 // sub-interval) or shrunk by at least half, at most 41 times in a row before
 // h reaches the floor, where it is accepted. So a piece takes at most 42
-// (2^40 + 1) evaluations. Since that would never end
-// in practice, a piece is refused beyond MaximumSubintervals evaluations
-// (the ray reports an error). A smooth L needs few: delta2 shrinks as h^3.
-// A kink of L (n.l or n.h changing sign, the clamp switching) makes its
-// sub-interval Rough, whose delta0 shrinks as h: about log2(L' / eps)
-// halvings around each kink. A spot's cone edge is a jump of L: its
-// sub-interval halves until its dT fits, at most to the floor (41 halvings).
+// (2^40 + 1) evaluations. Since that would never end in practice, a piece is
+// refused beyond MaximumSubintervals evaluations (the ray reports an error).
+// A smooth L needs few: R dT shrinks as h^(N+2) against a share ~ h. A kink
+// of L shrinks R only as h: about log2(L' / eps) halvings around each kink.
+// A spot's cone edge is a jump of L: its sub-interval halves until its dT
+// fits, at most to the floor (41 halvings).
 //
-// A sample is one evaluation of the lit colour's enclosure.
+// A sample is one evaluation of the lit colour's models.
 #ifndef avos_numerics_PiecewiseShading_h
 #define avos_numerics_PiecewiseShading_h
 
@@ -111,66 +108,29 @@ void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
   }
 }
 
-// The polynomial sum_k p[k] v^k (its coefficients enclosed) as a Jet over
-// the sub-interval of centre c and radius r: its coefficients about c, b_k
-// (Taylor shift in interval arithmetic), give F = b0, F1 = b1 and the ranges
-// of the value, first and second derivatives as sums of b_k y^k over y in
-// [-r, r]. Far cheaper than Horner's rule on Jets (a product of Jets per
-// degree), and tighter.
-template <typename Real, int N>
-Jet<Real> PolynomialJet(const Bounds<Real> (&p)[N], Real c, Real r)
+// The degree N of the lit colour's Taylor models, by tolerance: a
+// sub-interval's error shrinks as its length to the power N + 1, each
+// enclosure costs about (N + 1)^2. Measured on random shaded rays through the
+// Bonsai: at eps 1e-3 degree 3 is the fastest (1.3x degree 5), at 1e-9
+// degree 5 (1.5x degree 3).
+template <typename Real>
+constexpr int ShadedDegree(Real tolerance)
 {
-  static_assert(N >= 1 && N <= 5, "degree at most 4");
-  Bounds<Real> b[N];
-  std::copy(p, p + N, b);
-  const Bounds<Real> centre(c);
-  for (int i = 0; i < N - 1; ++i)
-  {
-    for (int k = N - 2; k >= i; --k)
-    {
-      b[k] = b[k] + centre * b[k + 1];
-    }
-  }
-  // y^k over [-r, r]: [-r^k, r^k] for odd k, [0, r^k] for even k.
-  Bounds<Real> Y[N];
-  Real power = Real(1);
-  for (int k = 0; k < N; ++k)
-  {
-    Y[k] = k == 0 ? Bounds<Real>(Real(1))
-      : k % 2     ? Bounds<Real>::Outward(-power, power)
-                  : Bounds<Real>::Outward(Real(0), power);
-    power *= r;
-  }
-  Jet<Real> j;
-  j.F = b[0];
-  j.F1 = N > 1 ? b[1] : Bounds<Real>(Real(0));
-  j.V = b[0];
-  j.D1 = j.F1;
-  j.D2 = Bounds<Real>(Real(0));
-  for (int k = 1; k < N; ++k)
-  {
-    j.V = j.V + b[k] * Y[k];
-    if (k >= 2)
-    {
-      j.D1 = j.D1 + Bounds<Real>(Real(k)) * b[k] * Y[k - 1];
-      j.D2 = j.D2 + Bounds<Real>(Real(k * (k - 1))) * b[k] * Y[k - 2];
-    }
-  }
-  j.Radius = r;
-  return j;
+  return tolerance >= Real(1e-5) ? 3 : 5;
 }
 
 // A piece's gradient as LitColourOf reads it (Shading.h), from its
 // world-space components' quadratics G[a][k] v^k over the sub-interval of
-// centre c and radius r: each component a PolynomialJet, the squared length
+// centre c and radius r: each component a Taylor model, the squared length
 // and the dot products with constant directions built from them (not from
 // the quartic's own coefficients, whose cancellation where the gradient
 // nearly vanishes would cost the enclosure its relative precision there).
 // `Zero` where the cell's corners are equal (no normal anywhere).
-template <typename Real>
+template <typename Real, int N>
 struct GradientPolynomials
 {
-  Jet<Real> G[3];
+  using Model = TaylorModel<Real, N>;
+  Model G[3];
   bool Zero;
 
   GradientPolynomials(const Real (*g)[3], Real c, Real r, bool zero)
@@ -178,186 +138,174 @@ struct GradientPolynomials
   {
     for (int a = 0; a < 3 && !zero; ++a)
     {
-      const Bounds<Real> q[3] = { g[a][0], g[a][1], g[a][2] };
-      this->G[a] = PolynomialJet(q, c, r);
+      this->G[a] = Model::Polynomial(g[a], c, r);
     }
   }
 
-  Jet<Real> Squared() const
+  Model Squared() const
   {
     return this->G[0] * this->G[0] + this->G[1] * this->G[1] + this->G[2] * this->G[2];
   }
-  Jet<Real> Dot(const glm::vec<3, Real>& w) const
+  Model Dot(const glm::vec<3, Real>& w) const
   {
     return this->G[0] * w.x + this->G[1] * w.y + this->G[2] * w.z;
   }
-  void Components(Jet<Real> g[3]) const { std::copy(this->G, this->G + 3, g); }
-  Sign SignOf(const Jet<Real>& squared) const
+  void Components(Model g[3]) const { std::copy(this->G, this->G + 3, g); }
+  Sign SignOf(const Model& squared) const
   {
-    if (this->Zero || squared.V.Hi <= Real(0))
+    const Bounds<Real> range = squared.Range();
+    if (this->Zero || range.Hi <= Real(0))
     {
       return Sign::Zero;
     }
-    return squared.V.Lo > Real(0) && std::isfinite(squared.V.Hi) ? Sign::Positive : Sign::Either;
+    return range.Lo > Real(0) && std::isfinite(range.Hi) ? Sign::Positive : Sign::Either;
   }
 };
 
 // The floor of a piece's sub-intervals, relative to its length: 2^-40.
 constexpr double ShadedFloor = 9.094947017729282e-13;
 
-// The lit colour's approximation on one sub-interval of centre c, per
-// channel: the constant Constant, or (Quadratic) F + F1 (v - c) + F2 (v - c)^2
-// / 2, within Delta of L.
-template <typename Real>
-struct LitApproximation
-{
-  bool Quadratic[3];
-  Real Constant[3];
-  Real F[3], F1[3], F2[3];
-  Real Delta[3];
-};
-
 // The factor of the next sub-interval's length after one whose
-// approximation erred by `excess` times its half share: the error times dT
-// shrinks as the length's fourth power for the quadratic (delta2 ~ r^3, dT ~
-// r) against a share ~ r, so the cube root of 0.8 / excess aims just below
-// the share (fewer, longer sub-intervals for a few more rejections,
-// measured); at most `most`, at least 1/8 (a kink makes the error shrink
-// only as r).
-template <typename Real>
+// approximation of degree N erred by `excess` times its half share: the
+// error times dT shrinks as the length's (N + 2)th power against a share ~
+// the length, so the (N + 1)th root of 0.8 / excess aims just below the
+// share; at most `most`, at least 1/8 (a kink makes the error shrink only as
+// the length).
+template <int N, typename Real>
 Real NextLengthFactor(Real excess, Real most)
 {
-  const Real f = excess > Real(0) && std::isfinite(excess) ? std::cbrt(Real(0.8) / excess) : most;
+  const Real f = excess > Real(0) && std::isfinite(excess)
+    ? std::pow(Real(0.8) / excess, Real(1) / Real(N + 1))
+    : most;
   return std::min(most, std::max(Real(0.125), f));
 }
 
-// Fills `a` from the Jets of the lit colour over a sub-interval of radius r:
-// per channel the constant unless its error times dT exceeds `limit` and the
-// quadratic's is smaller. True when every channel's delta dT is within
-// `limit`.
-template <typename Real>
-bool Approximate(const Jet<Real> lit[3], Real r, Real dT, Real limit, LitApproximation<Real>& a)
+// The lit colour's model on the sub-interval [v, end] of the piece (cubic
+// q, transfer-function piece p, world gradient G, `zero` where it vanishes
+// everywhere, world position `start` at v = 0), about the centre c.
+template <int N, typename Real>
+void LitModels(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
+  const Real G[3][3], bool zero, const glm::vec<3, Real>& start, const RayShading<Real>& shading,
+  Real c, Real r, TaylorModel<Real, N> lit[3])
 {
-  bool fits = true;
+  using Model = TaylorModel<Real, N>;
+  const Real cubic[4] = { q.K[0], q.K[1], q.K[2], q.K[3] };
+  const Model s = Model::Polynomial(cubic, c, r);
+  Model colour[3];
   for (int k = 0; k < 3; ++k)
   {
-    const Jet<Real>& L = lit[k];
-    const Real delta0 = L.V.Width() / Real(2);
-    Real delta2 = std::numeric_limits<Real>::infinity();
-    if (L.Smooth && L.Centred)
-    {
-      delta2 = L.F.Width() / Real(2) + L.F1.Width() / Real(2) * r + L.D2.Width() / Real(4) * r * r;
-      delta2 = std::isfinite(delta2) ? delta2 : std::numeric_limits<Real>::infinity();
-    }
-    a.Quadratic[k] = !(delta0 * dT <= limit) && delta2 < delta0;
-    if (a.Quadratic[k])
-    {
-      a.F[k] = L.F.Lo + L.F.Width() / Real(2);
-      a.F1[k] = L.F1.Lo + L.F1.Width() / Real(2);
-      a.F2[k] = L.D2.Lo + L.D2.Width() / Real(2);
-      a.Delta[k] = delta2;
-    }
-    else
-    {
-      a.Constant[k] = L.V.Lo + L.V.Width() / Real(2);
-      a.Delta[k] = delta0;
-    }
-    fits = fits && a.Delta[k] * dT <= limit;
+    colour[k] = p.ColourSlope[k] * s + p.Colour[k];
   }
-  return fits;
+  const GradientPolynomials<Real, N> gradient(G, c, r, zero);
+  Model position[3];
+  if (shading.Model->HasPositionalLights())
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      // start + (c + y) direction: a line, its constant term's rounding in R.
+      const Real line[2] = { start[k], shading.WorldDirection[k] };
+      position[k] = Model::Polynomial(line, c, r);
+    }
+  }
+  LitColourOf(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
+}
+
+// P(y) = sum_k a[k] y^k.
+template <typename Real, int M>
+Real EvaluateAt(const Real (&a)[M], Real y)
+{
+  Real value = a[M - 1];
+  for (int k = M - 2; k >= 0; --k)
+  {
+    value = value * y + a[k];
+  }
+  return value;
 }
 
 // int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
 // e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
 // position `start` at v = 0), added to `color`; see above. `scale` turns
 // (dT + h / L) into a share, `inverseL` is 1 / L; what floor sub-intervals
-// exceed their share by is added to `overdraft`. False when the piece is
-// refused (MaximumSubintervals).
-template <typename Real>
+// exceed their share by is added to `overdraft`. `length` holds the
+// sub-interval length predicted by the piece before (infinite on a ray's
+// first): the piece starts there, and leaves its own prediction. False when
+// the piece is refused (MaximumSubintervals). N the models' degree.
+template <int N, typename Real>
 bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
   const glm::vec<3, Real>& start, const RayShading<Real>& shading, Real scale, Real inverseL,
-  glm::vec<3, Real>& color, Real& overdraft, RayStatistics<Real>& stats)
+  glm::vec<3, Real>& color, Real& overdraft, Real& length, RayStatistics<Real>& stats)
 {
-  using JetR = Jet<Real>;
-  const bool positional = shading.Model->HasPositionalLights();
+  const Real eps = std::numeric_limits<Real>::epsilon();
   bool zero = true; // no normal anywhere on the piece
   for (int a = 0; a < 3; ++a)
   {
     zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
   }
   const Real floor = l * Real(ShadedFloor);
-  Real v = Real(0), h = l, Ev = Real(1);
+  Real v = Real(0), h = std::max(std::min(l, length), floor), Ev = Real(1);
   for (long count = 0; v < l && Ev > Real(0); ++count)
   {
     if (count == MaximumSubintervals)
     {
       return false;
     }
-    h = std::min(h, l - v);
-    const Real end = l - v <= h ? l : v + h;
+    const Real tried = std::min(h, l - v);
+    const Real end = l - v <= tried ? l : v + tried;
     const Real width = end - v;
     const Real Eh = end == l ? El : std::exp(-depth(end));
     const Real dT = Ta * (Ev - Eh);
     const Real share = scale * (dT + width * inverseL);
-    const bool atFloor = h <= floor; // not width: v + h - v may round above it
+    const bool atFloor = tried <= floor; // not width: v + h - v may round above it
 
-    const JetR u = JetR::Variable(Bounds<Real>(v, end));
-    const Real c = u.F.Lo;
-    const Bounds<Real> cubic[4] = { q.K[0], q.K[1], q.K[2], q.K[3] };
-    const JetR s = PolynomialJet(cubic, c, u.Radius);
-    JetR colour[3], lit[3];
-    for (int k = 0; k < 3; ++k)
-    {
-      colour[k] = p.Colour[k] + p.ColourSlope[k] * s;
-    }
-    const GradientPolynomials<Real> gradient(G, c, u.Radius, zero);
-    JetR position[3];
-    if (positional)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        position[k] = start[k] + u * shading.WorldDirection[k];
-      }
-    }
-    LitColourOf(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
+    // The centre and a radius that reaches both ends despite rounding.
+    const Real c = v + width / Real(2);
+    const Real r = std::max(c - v, end - c) * (Real(1) + Real(4) * eps) +
+      std::numeric_limits<Real>::min();
+    TaylorModel<Real, N> lit[3];
+    LitModels<N>(q, p, G, zero, start, shading, c, r, lit);
     ++stats.Samples;
 
-    LitApproximation<Real> a;
-    bool fits = Approximate(lit, u.Radius, dT, share / Real(2), a);
-    // How far the approximation's error is from its half share: the next
-    // length follows from it (below).
+    // |L - P| <= R on the sub-interval, so P's integral against tau T errs
+    // by at most R dT; the ratio of the worst channel's to its half share
+    // predicts the next length (below).
+    bool fits = true;
     Real ratio = Real(0);
     for (int k = 0; k < 3; ++k)
     {
-      ratio = std::max(ratio, a.Delta[k] * dT / (share / Real(2)));
+      fits = fits && lit[k].R * dT <= share / Real(2);
+      ratio = std::max(ratio, lit[k].R * dT / (share / Real(2)));
     }
-    // The P' terms: T(v0) int P' e^{-dtheta}, per channel (0 for a constant).
+    // By parts: P(v) T(v) - P(end) T(end) + T(v) int P' e^{-dtheta}, per
+    // channel; the last term by the monotone midpoint where P' keeps its
+    // sign, or by the series.
     Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
-    Real g[3][3], limits[3];
+    Real g[3][N], limits[3];
     bool series = false;
     for (int k = 0; k < 3 && fits; ++k)
     {
-      g[k][0] = g[k][1] = g[k][2] = Real(0);
+      const Real(&a)[N + 1] = lit[k].A;
+      Pv[k] = EvaluateAt(a, v - c);
+      Pe[k] = EvaluateAt(a, end - c);
       limits[k] = share / Real(2);
-      if (!a.Quadratic[k])
+      // P' over the sub-interval: a[1] within sum_j j |a_j| r^(j-1).
+      Real bend = Real(0);
+      for (int j = N; j >= 2; --j)
       {
-        Pv[k] = Pe[k] = a.Constant[k];
-        continue;
+        bend = (bend + Real(j) * std::abs(a[j])) * r;
+        g[k][j - 1] = Real(j) * a[j];
       }
-      const Real x0 = v - c, x1 = end - c;
-      Pv[k] = a.F[k] + x0 * (a.F1[k] + x0 * a.F2[k] / Real(2));
-      Pe[k] = a.F[k] + x1 * (a.F1[k] + x1 * a.F2[k] / Real(2));
-      const Real s0 = a.F1[k] + a.F2[k] * x0, s1 = a.F1[k] + a.F2[k] * x1;
+      g[k][0] = a[1];
       const Real dP = Pe[k] - Pv[k];
-      if (s0 * s1 >= Real(0) && std::abs(dP) * dT <= share)
+      if (std::abs(a[1]) > bend * (Real(1) + Real(16) * eps) && std::abs(dP) * dT <= share)
       {
         terms[k] = Ta * dP * (Ev + Eh) / Real(2);
+        std::fill(g[k], g[k] + N, Real(0));
         continue;
       }
-      g[k][0] = s0;
-      g[k][1] = a.F2[k];
-      series = true;
+      // P'(y) with y = (v - c) + u, u from the sub-interval's start.
+      ShiftPolynomial(g[k], N - 1, v - c);
+      series = series || std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); });
     }
     if (fits && series)
     {
@@ -370,7 +318,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
         A <= Real(1) && SubintervalSeries(theta, depth.Degree, g, width, A, Ta * Ev, limits, sums);
       for (int k = 0; k < 3 && fits; ++k)
       {
-        if (g[k][0] != Real(0) || g[k][1] != Real(0))
+        if (std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); }))
         {
           terms[k] = Ta * Ev * sums[k];
         }
@@ -379,18 +327,21 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     if (!fits && !atFloor)
     {
       ++stats.Rejected;
-      h = std::max(h * NextLengthFactor(ratio, Real(0.5)), floor);
+      h = std::max(tried * NextLengthFactor<N>(ratio, Real(0.5)), floor);
       continue;
     }
     if (!fits)
     {
-      // At the floor: the constants (lit[k].V within [0, 1]), their excess
-      // over the share counted.
+      // At the floor: the constants, the middles of the models' ranges
+      // within [0, 1] (where L lies), their excess over the share counted.
       Real excess = Real(0);
       for (int k = 0; k < 3; ++k)
       {
-        const Real delta0 = lit[k].V.Width() / Real(2);
-        Pv[k] = Pe[k] = lit[k].V.Lo + delta0;
+        const Bounds<Real> range = lit[k].Range();
+        const Real lo = std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
+        const Real hi = std::isnan(range.Hi) ? Real(1) : std::min(std::max(range.Hi, Real(0)), Real(1));
+        const Real delta0 = (hi - lo) / Real(2);
+        Pv[k] = Pe[k] = lo + delta0;
         terms[k] = Real(0);
         excess = std::max(excess, delta0 * dT - share);
       }
@@ -403,10 +354,13 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     stats.Accept(width);
     v = end;
     Ev = Eh;
-    // A fit predicts its successor's length; a floor sub-interval that did
-    // not fit (a kink) says nothing of the next one: h doubles.
-    h *= fits ? std::max(Real(1), NextLengthFactor(ratio, Real(4))) : Real(2);
+    // A fit predicts its successor's length (a piece's last, cut short by
+    // its end, does not shorten it); a floor sub-interval that did not fit
+    // (a kink) says nothing of the next one: h doubles.
+    h = fits ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
+             : Real(2) * tried;
   }
+  length = h;
   return true;
 }
 } // namespace detail
@@ -437,8 +391,9 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
   const Real scale = Real(0.275) * tolerance, reserve = Real(0.05) * tolerance;
   const Real terminationBound = Real(0.15) * tolerance;
   const Real inverseL = Real(1) / L;
+  const int degree = detail::ShadedDegree(tolerance);
   glm::vec<3, Real> color(Real(0));
-  Real T = Real(1), overdraft = Real(0);
+  Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
   bool stopped = false;
   auto visit = [&](const RayPiece<Real>& rp) -> bool
   {
@@ -451,8 +406,12 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
       Real G[3][3];
       detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
       const glm::vec<3, Real> start = shading.WorldOrigin + rp.Begin * shading.WorldDirection;
-      if (!detail::ShadedPiece(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale, inverseL,
-            color, overdraft, stats))
+      const bool integrated = degree == 3
+        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale,
+            inverseL, color, overdraft, length, stats)
+        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale,
+            inverseL, color, overdraft, length, stats);
+      if (!integrated)
       {
         result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "
                        "or a nearly vanishing gradient too close together)";

@@ -29,11 +29,11 @@
 // changes cell, a spot's cone is crossed, or a max(0, .) or the clamp
 // switches: the adaptive rules control its error as they do the unshaded
 // one's (by Simpson's estimate), the piecewise method proves it
-// (PiecewiseShading.h, with LitColour on Jets).
+// (PiecewiseShading.h, with LitColour on Taylor models).
 #ifndef avos_numerics_Shading_h
 #define avos_numerics_Shading_h
 
-#include "avos/numerics/Enclosure.h"
+#include "avos/numerics/TaylorModel.h"
 #include "avos/numerics/Volume.h"
 
 #include <glm/glm.hpp>
@@ -192,15 +192,16 @@ private:
 
 namespace detail
 {
-// The model's operations on plain numbers and on Jets (Enclosure.h), so that
-// one LitColour gives a sample's colour and its enclosure over an interval.
-// A Jet crossing a kink (|x| or max(0, x) at 0, the clamp at 0 or 1) becomes
-// Rough: its value bounds stay valid, its derivatives are unknown.
+// The model's operations on plain numbers and on Taylor models
+// (TaylorModel.h), so that one LitColour gives a sample's colour and its
+// enclosure over an interval. A model crossing a kink (|x| or max(0, x) at 0,
+// the clamp at 0 or 1) keeps its polynomial and takes the kink's excess into
+// its remainder.
 enum class Sign
 {
   Zero,
   Positive,
-  Either // a Jet whose values hold 0 and positive ones
+  Either // a model whose values hold 0 and positive ones
 };
 
 // Whether the gradient g, of squared length `squared`, vanishes.
@@ -210,22 +211,23 @@ Sign GradientSign(const Real*, Real squared)
   return squared > Real(0) && std::isfinite(squared) ? Sign::Positive : Sign::Zero;
 }
 
-// A Jet's outward rounding widens an exact 0 to +-1e-308, so a gradient
-// whose components are the constant 0 (a cell of equal corners) is tested
-// on them.
-template <typename Real>
-Sign GradientSign(const Jet<Real>* g, const Jet<Real>& squared)
+// A model's range is rounded outward, so a gradient whose components are the
+// constant 0 (a cell of equal corners) is tested on them.
+template <typename Real, int N>
+Sign GradientSign(const TaylorModel<Real, N>* g, const TaylorModel<Real, N>& squared)
 {
-  if (squared.V.Lo > Real(0) && std::isfinite(squared.V.Hi))
+  const Bounds<Real> range = squared.Range();
+  if (range.Lo > Real(0) && std::isfinite(range.Hi))
   {
     return Sign::Positive;
   }
   bool zero = true;
   for (int k = 0; k < 3; ++k)
   {
-    zero = zero && g[k].V.Lo == Real(0) && g[k].V.Hi == Real(0);
+    zero = zero && g[k].R == Real(0) &&
+      std::all_of(g[k].A, g[k].A + N + 1, [](Real a) { return a == Real(0); });
   }
-  return zero || squared.V.Hi <= Real(0) ? Sign::Zero : Sign::Either;
+  return zero || range.Hi <= Real(0) ? Sign::Zero : Sign::Either;
 }
 
 template <typename Real>
@@ -234,30 +236,24 @@ Real InverseSqrt(Real x)
   return Real(1) / std::sqrt(x);
 }
 
-template <typename Real>
-Jet<Real> InverseSqrt(const Jet<Real>& x)
+template <typename Real, int N>
+TaylorModel<Real, N> InverseSqrt(const TaylorModel<Real, N>& x)
 {
   return Pow(x, Real(-0.5));
 }
 
-// A cosine: n.l or n.h, in [-1, 1] whatever its enclosure says (a Jet over
-// a stretch where the gradient nearly vanishes may be far wider, or NaN).
+// A cosine: n.l or n.h, in [-1, 1] whatever its enclosure says (a model over
+// a stretch where the gradient nearly vanishes may be far wider, or unknown).
 template <typename Real>
 Real Cosine(Real x)
 {
   return x;
 }
 
-template <typename Real>
-Jet<Real> Cosine(const Jet<Real>& x)
+template <typename Real, int N>
+TaylorModel<Real, N> Cosine(const TaylorModel<Real, N>& x)
 {
-  if (x.V.Lo >= Real(-1) && x.V.Hi <= Real(1))
-  {
-    return x;
-  }
-  return Jet<Real>::Rough(x.V.Lo >= Real(-1) && x.V.Lo <= Real(1) ? Bounds<Real>(x.V.Lo, Real(1))
-      : x.V.Hi >= Real(-1) && x.V.Hi <= Real(1)                   ? Bounds<Real>(Real(-1), x.V.Hi)
-                                                : Bounds<Real>(Real(-1), Real(1)));
+  return Clamp(x, Real(-1), Real(1));
 }
 
 // |x| (two-sided lighting) or max(0, x).
@@ -267,18 +263,10 @@ Real Facing(Real x, bool twoSided)
   return twoSided ? std::abs(x) : std::max(x, Real(0));
 }
 
-template <typename Real>
-Jet<Real> Facing(const Jet<Real>& x, bool twoSided)
+template <typename Real, int N>
+TaylorModel<Real, N> Facing(const TaylorModel<Real, N>& x, bool twoSided)
 {
-  if (x.V.Lo >= Real(0))
-  {
-    return x;
-  }
-  if (x.V.Hi <= Real(0))
-  {
-    return twoSided ? -x : Jet<Real>(Real(0));
-  }
-  return Jet<Real>::Rough(Bounds<Real>(Real(0), twoSided ? x.V.Magnitude() : x.V.Hi));
+  return twoSided ? Abs(x) : PositivePart(x);
 }
 
 // x^p for x >= 0, 0 at x = 0 (as VTK's mappers skip a facing term of 0).
@@ -289,10 +277,15 @@ Real FacingPower(Real x, Real p)
 }
 
 // The same but at the single point x = 0 when p = 0 (1 there): no integral
-// sees a point.
-template <typename Real>
-Jet<Real> FacingPower(const Jet<Real>& x, Real p)
+// sees a point. A whole power whose base's range reaches 0 (a highlight's
+// n.h near a kink) by squaring, which needs no expansion point.
+template <typename Real, int N>
+TaylorModel<Real, N> FacingPower(const TaylorModel<Real, N>& x, Real p)
 {
+  if (p >= Real(1) && p <= Real(4096) && p == std::floor(p) && !(x.Range().Lo > Real(0)))
+  {
+    return WholePower(x, static_cast<unsigned>(p));
+  }
   return Pow(x, p);
 }
 
@@ -302,21 +295,10 @@ Real Clamp01(Real x)
   return std::min(std::max(x, Real(0)), Real(1));
 }
 
-template <typename Real>
-Jet<Real> Clamp01(const Jet<Real>& x)
+template <typename Real, int N>
+TaylorModel<Real, N> Clamp01(const TaylorModel<Real, N>& x)
 {
-  if (x.V.Lo >= Real(0) && x.V.Hi <= Real(1))
-  {
-    return x;
-  }
-  const Real lo = std::min(std::max(x.V.Lo, Real(0)), Real(1));
-  const Real hi = std::min(std::max(x.V.Hi, Real(0)), Real(1));
-  if (lo == hi)
-  {
-    return Jet<Real>(lo); // wholly clamped: a constant
-  }
-  return Jet<Real>::Rough(
-    Bounds<Real>(std::isnan(lo) ? Real(0) : lo, std::isnan(hi) ? Real(1) : hi));
+  return Clamp(x, Real(0), Real(1));
 }
 
 template <typename Real>
@@ -325,24 +307,24 @@ Real Reciprocal(Real x)
   return Real(1) / x;
 }
 
-template <typename Real>
-Jet<Real> Reciprocal(const Jet<Real>& x)
+template <typename Real, int N>
+TaylorModel<Real, N> Reciprocal(const TaylorModel<Real, N>& x)
 {
   return Pow(x, Real(-1));
 }
 
 // Whether a squared length vanishes, so that a sample has no direction to
-// normalise (at a light's position, or where l = -v). A Jet's enclosure
-// takes such points in (its bounds become wide or NaN and the clamp or
-// Cosine bounds them): never for Jets.
+// normalise (at a light's position, or where l = -v). A model's enclosure
+// takes such points in (its remainder becomes infinite and the clamp or
+// Cosine bounds it): never for models.
 template <typename Real>
 bool Vanishes(Real squared)
 {
   return !(squared > Real(0));
 }
 
-template <typename Real>
-bool Vanishes(const Jet<Real>&)
+template <typename Real, int N>
+bool Vanishes(const TaylorModel<Real, N>&)
 {
   return false;
 }
@@ -354,10 +336,10 @@ Real Either(Real a, Real)
 }
 
 // The hull of two cases, where either may hold.
-template <typename Real>
-Jet<Real> Either(const Jet<Real>& a, const Jet<Real>& b)
+template <typename Real, int N>
+TaylorModel<Real, N> Either(const TaylorModel<Real, N>& a, const TaylorModel<Real, N>& b)
 {
-  return Jet<Real>::Rough(Hull(a.V, b.V));
+  return Hull(a, b);
 }
 } // namespace detail
 
@@ -433,8 +415,8 @@ struct GradientComponents
 } // namespace detail
 
 // The lit colour of ShadingModel::Shade, channel by channel, on plain numbers
-// (T = Real) or on Jets (an enclosure of the lit colour over an interval of
-// the ray, each input a Jet of the same variable): `colour` the sample's
+// (T = Real) or on Taylor models (an enclosure of the lit colour over an
+// interval of the ray, each input a model in the same variable): `colour` the sample's
 // colour, `gradient` its world-space gradient as detail::GradientComponents
 // reads one (PiecewiseShading.h gives one from its polynomials), `toViewer`
 // the unit direction towards the viewer, `position` the sample's world
