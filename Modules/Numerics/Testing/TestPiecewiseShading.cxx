@@ -344,6 +344,55 @@ TEST(PiecewiseShading, RemainderShrinksAsTheDegreePlusOne)
   EXPECT_NEAR(RemainderRatio<5>(0.02) / 64.0, 1.0, 0.3);
 }
 
+// The kinks' cuts: the roots of g.l in (0, l) for each directional light,
+// and of g.h only where the specular power is below the degree + 1. Here g.l
+// = (v - 0.25)(v - 0.75) for the light along z, g.h's roots at 0.5 and 2.
+TEST(PiecewiseShading, KinkCutsAtTheRootsOfTheFacingQuadratics)
+{
+  // g = ((v - 0.5)(v - 2), 0, (v - 0.25)(v - 0.75)): G[a][k] v^k.
+  const double G[3][3] = { { 1.0, -2.5, 1.0 }, { 0.0, 0.0, 0.0 }, { 0.1875, -1.0, 1.0 } };
+  ShadingModel<double> model;
+  model.Lights.push_back({ glm::dvec3(0.0, 0.0, 1.0), glm::dvec3(1.0), glm::dvec3(1.0) });
+  const glm::dvec3 toViewer(1.0, 0.0, 0.0); // h = (1, 0, 1) / sqrt 2
+  detail::KinkCuts<double> smooth;
+  smooth.Find(G, 1.0, model, toViewer, 3);
+  ASSERT_EQ(smooth.Count, 2) << "power 10: n.h is left to the models";
+  EXPECT_NEAR(smooth.At[0], 0.25, 1e-15);
+  EXPECT_NEAR(smooth.At[1], 0.75, 1e-15);
+  model.SpecularPower = 1.0;
+  detail::KinkCuts<double> sharp;
+  sharp.Find(G, 1.0, model, toViewer, 3);
+  ASSERT_EQ(sharp.Count, 3);
+  // g.h = ((v - 0.5)(v - 2) + (v - 0.25)(v - 0.75)) / sqrt 2 = (2 v^2 - 3.5 v + 1.1875) / sqrt 2
+  const double root = (3.5 - std::sqrt(3.5 * 3.5 - 8.0 * 1.1875)) / 4.0;
+  EXPECT_NEAR(sharp.At[0], 0.25, 1e-15);
+  EXPECT_NEAR(sharp.At[1], root, 1e-15);
+  EXPECT_NEAR(sharp.At[2], 0.75, 1e-15);
+}
+
+// A dim medium (dT at most the share: the constant 1/2 suffices) entered
+// with a tiny predicted length: the sub-intervals must grow (each dim one
+// doubles the length; their error ratio, 0.87 here, predicts nothing), not
+// stay at the floor until the piece is refused.
+TEST(PiecewiseShading, DimPiecesGrowFromATinyLength)
+{
+  const Cubic<double> q{ { 0.5, 0.1, 0.0, 0.0 } };
+  PiecewiseTransferFunction<double>::Piece p{};
+  p.Tau = 0.0024; // Ta tau (1 - scale) <= scale / L with scale 0.00275, L = 1
+  p.ColourSlope = glm::dvec3(0.0, 0.05, 0.0);
+  const detail::PieceDepth<double> depth(q, p.Tau, 0.0, 0.0, 0.0);
+  const double G[3][3] = { { 1.0, 0.2, 0.0 }, { 0.3, 0.0, 0.1 }, { -0.5, 0.0, 0.0 } };
+  const ShadingModel<double> model = Headlight(glm::dvec3(0.0, 0.0, 1.0));
+  const RayShading<double> shading{ &model, glm::dmat3(1.0), glm::dvec3(0.0, 0.0, 1.0) };
+  glm::dvec3 color(0.0);
+  double overdraft = 0.0, length = 1e-13;
+  RayStatistics<double> stats;
+  ASSERT_TRUE(detail::ShadedPiece<3>(q, p, depth, 1.0, std::exp(-depth(1.0)), 1.0, G,
+    glm::dvec3(0.0), shading, 0.00275, 1.0, color, overdraft, length, stats));
+  EXPECT_LT(stats.Accepted, 60) << "about log2(1e13) doublings";
+  EXPECT_EQ(overdraft, 0.0);
+}
+
 TEST(PiecewiseShading, BadInput)
 {
   const int dims[3] = { 2, 2, 2 };

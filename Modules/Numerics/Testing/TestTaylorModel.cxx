@@ -207,3 +207,52 @@ TEST(TaylorModel, NotFinite)
   EXPECT_GE(clamped.R, 0.5);
   EXPECT_EQ((0.0 * M(inf)).R, 0.0) << "0 f = 0";
 }
+
+// The tight range holds every value and is within the plain range; on a
+// model whose range ends at a root (a kink at the interval's end), it reaches
+// past 0 by far less than the plain range does.
+TEST(TaylorModel, TightRange)
+{
+  using M = TaylorModel<double, 5>;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const double c = u(rng), r = std::pow(10.0, -2.0 * (u(rng) + 1.0));
+    const double p[4] = { u(rng), u(rng), u(rng), u(rng) };
+    const M m = Pow(M::Polynomial(p, c, r) * M::Polynomial(p, c, r) + 0.5, -0.5);
+    const Bounds<double> tight = m.TightRange(), plain = m.Range();
+    ASSERT_GE(tight.Lo, plain.Lo);
+    ASSERT_LE(tight.Hi, plain.Hi);
+    for (int i = 0; i <= 64; ++i)
+    {
+      const double v = c - r + 2.0 * r * i / 64.0;
+      const double q = p[0] + v * (p[1] + v * (p[2] + v * p[3]));
+      ASSERT_TRUE(tight.Contains(1.0 / std::sqrt(q * q + 0.5))) << trial;
+    }
+  }
+  // x (1 + x) over [0, 2r]: 0 at the interval's start.
+  const double r = 0.01;
+  const M x = Variable<5>(r, r);
+  const M f = x * (x + 1.0);
+  EXPECT_GT(f.TightRange().Lo, -1e-15);
+  EXPECT_LT(f.Range().Lo, -1e-4);
+}
+
+// The powers by squaring are within (|p| + 8) u of std::pow.
+TEST(TaylorModel, WholeAndHalfPowers)
+{
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(0.01, 100.0);
+  const double unit = std::numeric_limits<double>::epsilon() / 2.0;
+  for (int trial = 0; trial < 2000; ++trial)
+  {
+    const double x = u(rng), p = std::round(2.0 * (u(rng) - 50.0) * 0.64) / 2.0; // -32 .. 32
+    const double exact = std::pow(x, p); // within an ulp
+    ASSERT_LE(std::abs(detail::PowerOf(x, p) - exact), (std::abs(p) + 10.0) * unit * exact)
+      << x << "^" << p;
+  }
+  EXPECT_EQ(detail::PowerOf(2.0, 10.0), 1024.0);
+  EXPECT_DOUBLE_EQ(detail::PowerOf(4.0, -0.5), 0.5);
+  EXPECT_DOUBLE_EQ(detail::PowerOf(3.0, 0.3), std::pow(3.0, 0.3));
+}

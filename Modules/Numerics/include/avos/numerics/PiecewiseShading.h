@@ -210,6 +210,82 @@ void LitModels(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Re
   LitColourOf(*shading.Model, colour, gradient, shading.ToViewer, position, lit);
 }
 
+// Where n.l changes sign on a piece, for each directional light, and n.h
+// where the specular power is below N + 1 (|x|^p is smooth enough for the
+// models beyond): the roots in (0, l) of the quadratics g.l and g.h (g the
+// piece's world gradient G[a][k] v^k), sorted. Sub-intervals end there, so
+// that each kink of |n.l| or max(0, n.l) lies at a sub-interval's end, where
+// the models take only its rounding's reach (a kink inside one shrinks its
+// remainder only as its length). The cuts only shorten sub-intervals: at most
+// Capacity of them (lights beyond are left to the subdivision).
+template <typename Real>
+struct KinkCuts
+{
+  static constexpr int Capacity = 32;
+  Real At[Capacity];
+  int Count = 0;
+
+  void Find(const Real G[3][3], Real l, const ShadingModel<Real>& model,
+    const glm::vec<3, Real>& toViewer, int degree)
+  {
+    for (const Light<Real>& light : model.Lights)
+    {
+      if (light.Positional)
+      {
+        continue;
+      }
+      this->Add(G, l, light.Direction);
+      const glm::vec<3, Real> half = light.Direction + toViewer;
+      if (model.Specular > Real(0) && model.SpecularPower < Real(degree + 1) &&
+        glm::length(half) > Real(0))
+      {
+        this->Add(G, l, glm::normalize(half));
+      }
+    }
+    std::sort(this->At, this->At + this->Count);
+  }
+
+private:
+  void Add(const Real G[3][3], Real l, const glm::vec<3, Real>& w)
+  {
+    Real q[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      q[k] = G[0][k] * w.x + G[1][k] * w.y + G[2][k] * w.z;
+    }
+    Real roots[2];
+    int n = 0;
+    if (q[2] == Real(0))
+    {
+      if (q[1] != Real(0))
+      {
+        roots[n++] = -q[0] / q[1];
+      }
+    }
+    else
+    {
+      const Real discriminant = q[1] * q[1] - Real(4) * q[2] * q[0];
+      if (discriminant >= Real(0))
+      {
+        // The stable pair: no cancellation in either root.
+        const Real s = -(q[1] + std::copysign(std::sqrt(discriminant), q[1])) / Real(2);
+        roots[n++] = s / q[2];
+        if (s != Real(0))
+        {
+          roots[n++] = q[0] / s;
+        }
+      }
+    }
+    for (int i = 0; i < n; ++i)
+    {
+      if (roots[i] > Real(0) && roots[i] < l && this->Count < Capacity)
+      {
+        this->At[this->Count++] = roots[i];
+      }
+    }
+  }
+};
+
 // P(y) = sum_k a[k] y^k.
 template <typename Real, int M>
 Real EvaluateAt(const Real (&a)[M], Real y)
@@ -243,15 +319,25 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
   }
   const Real floor = l * Real(ShadedFloor);
+  KinkCuts<Real> cuts;
+  if (!zero)
+  {
+    cuts.Find(G, l, *shading.Model, shading.ToViewer, N);
+  }
   Real v = Real(0), h = std::max(std::min(l, length), floor), Ev = Real(1);
-  for (long count = 0; v < l && Ev > Real(0); ++count)
+  for (long count = 0, next = 0; v < l && Ev > Real(0); ++count)
   {
     if (count == MaximumSubintervals)
     {
       return false;
     }
-    const Real tried = std::min(h, l - v);
-    const Real end = l - v <= tried ? l : v + tried;
+    // Sub-intervals end at the kinks' cuts too.
+    for (; next < cuts.Count && cuts.At[next] <= v; ++next)
+    {
+    }
+    const Real stop = next < cuts.Count ? cuts.At[next] : l;
+    const Real tried = std::min(h, stop - v);
+    const Real end = stop - v <= tried ? stop : v + tried;
     const Real width = end - v;
     const Real Eh = end == l ? El : std::exp(-depth(end));
     const Real dT = Ta * (Ev - Eh);
@@ -263,8 +349,22 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     const Real r = std::max(c - v, end - c) * (Real(1) + Real(4) * eps) +
       std::numeric_limits<Real>::min();
     TaylorModel<Real, N> lit[3];
-    LitModels<N>(q, p, G, zero, start, shading, c, r, lit);
-    ++stats.Samples;
+    const bool dim = dT <= share;
+    if (dim)
+    {
+      // So little light is spent here that L's bounds [0, 1] suffice: the
+      // constant 1/2, within 1/2, errs by dT / 2, half the share at most.
+      for (TaylorModel<Real, N>& model : lit)
+      {
+        model = TaylorModel<Real, N>(Real(0.5));
+        model.R = Real(0.5);
+      }
+    }
+    else
+    {
+      LitModels<N>(q, p, G, zero, start, shading, c, r, lit);
+      ++stats.Samples;
+    }
 
     // |L - P| <= R on the sub-interval, so P's integral against tau T errs
     // by at most R dT; the ratio of the worst channel's to its half share
@@ -356,9 +456,11 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     Ev = Eh;
     // A fit predicts its successor's length (a piece's last, cut short by
     // its end, does not shorten it); a floor sub-interval that did not fit
-    // (a kink) says nothing of the next one: h doubles.
-    h = fits ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
-             : Real(2) * tried;
+    // (a kink) says nothing of the next one, nor does a dim one (its error
+    // and its share grow alike): h doubles.
+    h = fits && !dim
+      ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
+      : std::max(dim ? h : Real(0), Real(2) * tried);
   }
   length = h;
   return true;
