@@ -73,7 +73,8 @@ const char* Usage =
   "--adversarial: no rendering; the numerical core's adversarial accuracy suite (thin\n"
   "layers, jumps, extinction 50, Marschner-Lobb, random 64-knot functions) with RAYS\n"
   "random rays per case, the piecewise, coupled and decoupled methods against the\n"
-  "exact reference, into --output/adversarial.md (100000 for the issue's figures).\n";
+  "exact reference, then shaded on RAYS / 10 rays, into --output/adversarial.md\n"
+  "(100000 for the issue's figures).\n";
 
 struct Dataset
 {
@@ -911,7 +912,8 @@ int main(int argc, char* argv[])
       std::cerr << "error: cannot write '" << path << "'\n";
       return EXIT_FAILURE;
     }
-    adversarial::WriteReport(file, o.AdversarialRays, o.Threads > 0 ? o.Threads : 2);
+    adversarial::WriteReport(
+      file, o.AdversarialRays, o.Threads > 0 ? o.Threads : 2, o.AdversarialRays / 10);
     if (std::fclose(file) != 0 || !atomic.Commit())
     {
       std::cerr << "error: cannot write '" << path << "'\n";

@@ -2,9 +2,9 @@
 // at full size: for each case, the exact piecewise reference of N random rays
 // (default 100,000), then the piecewise, coupled and decoupled methods at
 // eps 0.01, 0.001 and 1e-4: % of rays within eps per RGBA channel, the
-// largest error, samples, cells and pieces per ray, seconds. Markdown on
-// standard output.
-//   avos-bench-accuracy [--rays N] [--threads T]
+// largest error, samples, cells and pieces per ray, seconds; then the same
+// shaded on M rays (default 10,000). Markdown on standard output.
+//   avos-bench-accuracy [--rays N] [--shaded-rays M] [--threads T]
 #include "AdversarialReport.h"
 
 #include <cstdio>
@@ -24,21 +24,23 @@ bool ParseCount(const char* text, long low, long high, long& value)
 
 int main(int argc, char* argv[])
 {
-  long rays = 100000, threads = 2;
+  long rays = 100000, shadedRays = 10000, threads = 2;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
     const bool ok = i + 1 < argc &&
       ((arg == "--rays" && ParseCount(argv[i + 1], 1, 10000000, rays)) ||
+        (arg == "--shaded-rays" && ParseCount(argv[i + 1], 0, 10000000, shadedRays)) ||
         (arg == "--threads" && ParseCount(argv[i + 1], 1, 256, threads)));
     if (!ok)
     {
-      std::fprintf(
-        stderr, "usage: avos-bench-accuracy [--rays N (1..1e7)] [--threads T (1..256)]\n");
+      std::fprintf(stderr,
+        "usage: avos-bench-accuracy [--rays N (1..1e7)] [--shaded-rays M (0..1e7)] "
+        "[--threads T (1..256)]\n");
       return arg == "--help" ? 0 : 2;
     }
     ++i;
   }
-  adversarial::WriteReport(stdout, rays, static_cast<int>(threads));
+  adversarial::WriteReport(stdout, rays, static_cast<int>(threads), shadedRays);
   return 0;
 }

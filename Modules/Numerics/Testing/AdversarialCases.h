@@ -2,12 +2,13 @@
 // which an error estimate from samples can be blind (layers thinner than a
 // voxel, jumps, huge extinction, high-frequency fields), random rays through
 // them, and the tally of each method's error against the exact piecewise
-// reference. Shared by the numerical core's tests (few rays) and
-// avos-bench-accuracy (100,000 rays per case).
+// reference, unshaded or lit (SharpLighting). Shared by the numerical core's
+// tests (few rays) and avos-bench-accuracy (100,000 rays per case).
 #ifndef avos_numerics_AdversarialCases_h
 #define avos_numerics_AdversarialCases_h
 
 #include "avos/numerics/PiecewiseIntegrator.h"
+#include "avos/numerics/PiecewiseShading.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/TransferFunction.h"
 #include "avos/numerics/Volume.h"
@@ -253,6 +254,23 @@ inline Ray MakeRay(const Case& c, unsigned i)
   return RandomRay(c.Dimensions, rng, 1.0);
 }
 
+// The shaded rows' lighting: a sharp highlight (specular power 128), one-sided
+// lighting (n.l's kink), two coloured directional lights.
+inline an::ShadingModel<double> SharpLighting()
+{
+  an::ShadingModel<double> m;
+  m.Ambient = 0.05;
+  m.Diffuse = 0.6;
+  m.Specular = 0.7;
+  m.SpecularPower = 128.0;
+  m.TwoSided = false;
+  m.Lights.push_back({ glm::normalize(glm::dvec3(0.3, -0.5, 0.8)), glm::dvec3(0.9, 0.7, 0.5),
+    glm::dvec3(1.0, 0.9, 0.8) });
+  m.Lights.push_back(
+    { glm::normalize(glm::dvec3(-0.6, 0.2, 0.3)), glm::dvec3(0.2, 0.3, 0.6), glm::dvec3(0.5) });
+  return m;
+}
+
 enum class Method
 {
   Piecewise,
@@ -276,12 +294,22 @@ inline const char* MethodName(Method m)
   }
 }
 
-// Integrates one ray with a method at a tolerance; `tf` is the case's
-// function prepared for that tolerance (piecewise methods).
+// Integrates one ray with a method at a tolerance, lit by `lighting` where
+// given (grid = world, seen along the ray); `tf` is the case's function
+// prepared for that tolerance (piecewise methods).
 inline an::RayResult<double> Integrate(const Case& c,
-  const an::PiecewiseTransferFunction<double>& tf, const Ray& ray, Method method, double eps)
+  const an::PiecewiseTransferFunction<double>& tf, const Ray& ray, Method method, double eps,
+  const an::ShadingModel<double>* lighting = nullptr)
 {
   const an::TrilinearVolume<double, double> volume(c.Data.data(), c.Dimensions);
+  const an::RayShading<double> shading{ lighting, glm::dmat3(1.0), -ray.Direction, ray.Origin,
+    ray.Direction };
+  if ((method == Method::Piecewise || method == Method::Reference) && lighting)
+  {
+    const an::Interval<double> whole{ 0.0, ray.Length };
+    return an::IntegratePiecewiseShaded(
+      volume, ray.Origin, ray.Direction, &whole, 1, tf, eps, shading);
+  }
   if (method == Method::Piecewise || method == Method::Reference)
   {
     return an::IntegratePiecewise(volume, ray.Origin, ray.Direction, ray.Length, tf, eps);
@@ -291,6 +319,12 @@ inline an::RayResult<double> Integrate(const Case& c,
   settings.Coupling = method == Method::Coupled ? an::Strategy::Coupled : an::Strategy::Decoupled;
   settings.FieldMinimum = 0.0;
   settings.FieldMaximum = 255.0;
+  if (lighting)
+  {
+    const an::ShadedRayField<double, an::TrilinearVolume<double, double>> field{ volume,
+      ray.Origin, ray.Direction, shading };
+    return an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
+  }
   const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
     ray.Direction };
   return an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
@@ -320,8 +354,10 @@ struct Tally
   }
 };
 
-// The exact reference of rays [0, count) of a case.
-inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int threads = 1)
+// The exact reference of rays [0, count) of a case (lit by `lighting`
+// where given).
+inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int threads = 1,
+  const an::ShadingModel<double>* lighting = nullptr)
 {
   an::PiecewiseTransferFunction<double> tf;
   tf.Build(c.TF, 1e-7);
@@ -330,8 +366,8 @@ inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int thr
   {
     for (unsigned i = begin; i < end; ++i)
     {
-      rgba[i] = Integrate(
-        c, tf, MakeRay(c, i), Method::Reference, an::PiecewiseReferenceTolerance<double>())
+      rgba[i] = Integrate(c, tf, MakeRay(c, i), Method::Reference,
+        an::PiecewiseReferenceTolerance<double>(), lighting)
                   .RGBA;
     }
   };
@@ -347,9 +383,10 @@ inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int thr
   return rgba;
 }
 
-// A method's errors on rays [0, reference.size()) of a case.
+// A method's errors on rays [0, reference.size()) of a case (lit by
+// `lighting` where given).
 inline Tally Measure(const Case& c, const std::vector<glm::dvec4>& reference, Method method,
-  double eps, int threads = 1)
+  double eps, int threads = 1, const an::ShadingModel<double>* lighting = nullptr)
 {
   an::PiecewiseTransferFunction<double> tf;
   tf.Build(c.TF, an::PiecewiseRelativeError(eps));
@@ -360,7 +397,7 @@ inline Tally Measure(const Case& c, const std::vector<glm::dvec4>& reference, Me
     Tally& tally = partial[static_cast<std::size_t>(t)];
     for (unsigned i = count * t / threads; i < count * (t + 1) / threads; ++i)
     {
-      const an::RayResult<double> r = Integrate(c, tf, MakeRay(c, i), method, eps);
+      const an::RayResult<double> r = Integrate(c, tf, MakeRay(c, i), method, eps, lighting);
       ++tally.Rays;
       tally.Failures += r.Error.empty() ? 0 : 1;
       tally.Samples += static_cast<double>(r.Statistics.Samples);

@@ -2,8 +2,11 @@
 // AdversarialCases.h, the exact reference of `rays` random rays, then the
 // piecewise, coupled and decoupled methods at eps 0.01, 0.001 and 1e-4: % of
 // rays within eps per RGBA channel, the largest error, samples, cells and
-// pieces per ray, seconds. Written by avos-bench-accuracy and avos-bench
-// --adversarial.
+// pieces per ray, seconds; then the same lit by SharpLighting on
+// `shadedRays` rays (none: no shaded section), the reference the shaded
+// piecewise method at eps 1e-10 (certified; TestPiecewiseShading checks it
+// against an independent Gauss-Legendre oracle). Written by
+// avos-bench-accuracy and avos-bench --adversarial.
 #ifndef avos_numerics_AdversarialReport_h
 #define avos_numerics_AdversarialReport_h
 
@@ -19,15 +22,11 @@ inline double Seconds(std::chrono::steady_clock::time_point since)
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-inline void WriteReport(std::FILE* file, long rays, int threads)
+// One section of the report: every case's reference and methods on `rays`
+// rays, lit by `lighting` where given.
+inline void WriteSection(
+  std::FILE* file, long rays, int threads, const an::ShadingModel<double>* lighting)
 {
-  std::fprintf(
-    file, "# Adversarial accuracy suite: %ld random rays per case, %d threads\n\n", rays, threads);
-  std::fprintf(file,
-    "Volumes of %d^3 points, scalars in [0, 255]; errors against the exact piecewise "
-    "reference (eps 1e-10); coupled and decoupled with the paper's steps (h0 0.5, "
-    "hmin 0.1, hmax 2).\n\n",
-    N);
   std::fprintf(file,
     "| case | method | eps | %% within eps R | G | B | A | max error | max / eps | "
     "samples/ray | cells/ray | pieces/ray | s |\n");
@@ -35,7 +34,8 @@ inline void WriteReport(std::FILE* file, long rays, int threads)
   for (const Case& c : MakeSuite())
   {
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<glm::dvec4> reference = References(c, static_cast<unsigned>(rays), threads);
+    const std::vector<glm::dvec4> reference =
+      References(c, static_cast<unsigned>(rays), threads, lighting);
     std::fprintf(file, "| %s | reference | 1e-10 | | | | | | | | | | %.2f |\n", c.Name.c_str(),
       Seconds(start));
     for (double eps : { 1e-2, 1e-3, 1e-4 })
@@ -43,7 +43,7 @@ inline void WriteReport(std::FILE* file, long rays, int threads)
       for (Method m : { Method::Piecewise, Method::Coupled, Method::Decoupled })
       {
         const auto begin = std::chrono::steady_clock::now();
-        const Tally t = Measure(c, reference, m, eps, threads);
+        const Tally t = Measure(c, reference, m, eps, threads, lighting);
         std::fprintf(file,
           "| %s | %s | %g | %.3f | %.3f | %.3f | %.3f | %.2e | %.2f | %.1f | %.1f | %.1f "
           "| %.2f |\n",
@@ -53,6 +53,28 @@ inline void WriteReport(std::FILE* file, long rays, int threads)
         std::fflush(file);
       }
     }
+  }
+}
+
+inline void WriteReport(std::FILE* file, long rays, int threads, long shadedRays)
+{
+  std::fprintf(
+    file, "# Adversarial accuracy suite: %ld random rays per case, %d threads\n\n", rays, threads);
+  std::fprintf(file,
+    "Volumes of %d^3 points, scalars in [0, 255]; errors against the exact piecewise "
+    "reference (eps 1e-10); coupled and decoupled with the paper's steps (h0 0.5, "
+    "hmin 0.1, hmax 2).\n\n",
+    N);
+  WriteSection(file, rays, threads, nullptr);
+  if (shadedRays > 0)
+  {
+    const an::ShadingModel<double> lighting = SharpLighting();
+    std::fprintf(file,
+      "\n## Shaded: %ld random rays per case\n\nLit by two coloured directional lights, "
+      "one-sided, specular power 128, seen along each ray; errors against the shaded "
+      "piecewise method at eps 1e-10 (samples: enclosures of the lit colour).\n\n",
+      shadedRays);
+    WriteSection(file, shadedRays, threads, &lighting);
   }
 }
 } // namespace adversarial

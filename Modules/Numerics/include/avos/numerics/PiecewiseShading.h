@@ -29,11 +29,15 @@
 //   0.275 eps (dT + h / L) (h its length, L the ray's visible length), half
 //   for R dT and half for the P' term; the shares of all sub-intervals add
 //   up to at most 0.55 eps (sum dT <= 1, sum h <= L).
-// - 0.05 eps for sub-intervals that reach the floor l 2^-40 without fitting
-//   their share (a jump of L, or a gradient vanishing at a point, inside):
-//   they take the constant, the middle of L's enclosure within [0, 1], within
-//   at most 1/2, and what they exceed their share by is summed; past 0.05 eps
-//   the ray reports an error instead of a colour outside the tolerance.
+// - 0.05 eps, the reserve, for the excesses over the shares, summed: of
+//   sub-intervals that reach the floor l 2^-40 without fitting their share
+//   (a jump of L, or a gradient vanishing at a point, inside), which take
+//   the constant, the middle of L's enclosure within [0, 1], within at most
+//   1/2; and of any sub-interval whose excess is below 2^-20 of what is left
+//   of the reserve (near a vanishing gradient, where rounding bounds R from
+//   below and no length fits its share, R dT is tiny), which keeps its
+//   model. Past 0.05 eps the ray reports an error instead of a colour
+//   outside the tolerance.
 // - 0.15 eps for early termination: the ray stops once T is below it (the
 //   lit colour is at most 1).
 // - 0.25 eps for VTK's alpha model, as without shading.
@@ -41,10 +45,11 @@
 // take their own rounding into R).
 //
 // Termination. A sub-interval is accepted (v advances by its length h, at
-// least the floor but at the piece's end; h then grows by the factor
-// NextLengthFactor predicts, within [1, 4], or doubles after a floor
-// sub-interval) or shrunk by at least half, at most 41 times in a row before
-// h reaches the floor, where it is accepted. So a piece takes at most 42
+// least the floor but at the piece's end or a kink's cut; h then grows by
+// the factor NextLengthFactor predicts, within [1, 4], or doubles after a
+// sub-interval that did not fit its share or was dim) or shrunk by at least
+// half, at most 41 times in a row before h reaches the floor, where it is
+// accepted. So a piece takes at most 42
 // (2^40 + 1) evaluations. Since that would never end in practice, a piece is
 // refused beyond MaximumSubintervals evaluations (the ray reports an error).
 // A smooth L needs few: R dT shrinks as h^(N+2) against a share ~ h. A kink
@@ -286,6 +291,18 @@ private:
   }
 };
 
+// A ray's error budget for its sub-intervals: a sub-interval of length h
+// spending dT may err by Scale (dT + h / L) (its share; InverseL = 1 / L);
+// the excesses beyond shares, counted in the ray's overdraft, by Reserve in
+// all.
+template <typename Real>
+struct ShadedBudget
+{
+  Real Scale;
+  Real InverseL;
+  Real Reserve;
+};
+
 // P(y) = sum_k a[k] y^k.
 template <typename Real, int M>
 Real EvaluateAt(const Real (&a)[M], Real y)
@@ -300,16 +317,16 @@ Real EvaluateAt(const Real (&a)[M], Real y)
 
 // int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
 // e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
-// position `start` at v = 0), added to `color`; see above. `scale` turns
-// (dT + h / L) into a share, `inverseL` is 1 / L; what floor sub-intervals
-// exceed their share by is added to `overdraft`. `length` holds the
+// position `start` at v = 0), added to `color`; see above. What
+// sub-intervals exceed their shares by (`budget`) is added to `overdraft`.
+// `length` holds the
 // sub-interval length predicted by the piece before (infinite on a ray's
 // first): the piece starts there, and leaves its own prediction. False when
 // the piece is refused (MaximumSubintervals). N the models' degree.
 template <int N, typename Real>
 bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
-  const glm::vec<3, Real>& start, const RayShading<Real>& shading, Real scale, Real inverseL,
+  const glm::vec<3, Real>& start, const RayShading<Real>& shading, const ShadedBudget<Real>& budget,
   glm::vec<3, Real>& color, Real& overdraft, Real& length, RayStatistics<Real>& stats)
 {
   const Real eps = std::numeric_limits<Real>::epsilon();
@@ -341,7 +358,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     const Real width = end - v;
     const Real Eh = end == l ? El : std::exp(-depth(end));
     const Real dT = Ta * (Ev - Eh);
-    const Real share = scale * (dT + width * inverseL);
+    const Real share = budget.Scale * (dT + width * budget.InverseL);
     const bool atFloor = tried <= floor; // not width: v + h - v may round above it
 
     // The centre and a radius that reaches both ends despite rounding.
@@ -369,13 +386,22 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     // |L - P| <= R on the sub-interval, so P's integral against tau T errs
     // by at most R dT; the ratio of the worst channel's to its half share
     // predicts the next length (below).
-    bool fits = true;
-    Real ratio = Real(0);
+    Real ratio = Real(0), excess = Real(0);
+    bool known = true;
     for (int k = 0; k < 3; ++k)
     {
-      fits = fits && lit[k].R * dT <= share / Real(2);
+      known = known && std::isfinite(lit[k].R);
       ratio = std::max(ratio, lit[k].R * dT / (share / Real(2)));
+      excess = std::max(excess, lit[k].R * dT - share / Real(2));
     }
+    // An excess below 2^-20 of what is left of the reserve is taken from it
+    // (counted), however long the sub-interval: so the reserve never runs
+    // out this way ((1 - 2^-20)^65536 > 0.9 of it is left after a piece's
+    // most sub-intervals). Near a vanishing gradient rounding bounds R from
+    // below (1e-10 there on the Bonsai) while the share shrinks with dT: no
+    // length fits, but R dT is tiny.
+    const bool tiny = excess <= (budget.Reserve - overdraft) * Real(0x1p-20);
+    bool fits = known && (excess <= Real(0) || tiny);
     // By parts: P(v) T(v) - P(end) T(end) + T(v) int P' e^{-dtheta}, per
     // channel; the last term by the monotone midpoint where P' keeps its
     // sign, or by the series.
@@ -434,7 +460,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     {
       // At the floor: the constants, the middles of the models' ranges
       // within [0, 1] (where L lies), their excess over the share counted.
-      Real excess = Real(0);
+      excess = Real(0);
       for (int k = 0; k < 3; ++k)
       {
         const Bounds<Real> range = lit[k].Range();
@@ -445,8 +471,8 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
         terms[k] = Real(0);
         excess = std::max(excess, delta0 * dT - share);
       }
-      overdraft += excess;
     }
+    overdraft += std::max(excess, Real(0));
     for (int k = 0; k < 3; ++k)
     {
       color[k] += Ta * (Pv[k] * Ev - Pe[k] * Eh) + terms[k];
@@ -456,11 +482,12 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     Ev = Eh;
     // A fit predicts its successor's length (a piece's last, cut short by
     // its end, does not shorten it); a floor sub-interval that did not fit
-    // (a kink) says nothing of the next one, nor does a dim one (its error
-    // and its share grow alike): h doubles.
-    h = fits && !dim
+    // (a kink) says nothing of the next one, nor does a dim one or one
+    // that took from the reserve (their error and share grow alike): h
+    // doubles.
+    h = fits && !dim && excess <= Real(0)
       ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
-      : std::max(dim ? h : Real(0), Real(2) * tried);
+      : std::max(fits ? h : Real(0), Real(2) * tried);
   }
   length = h;
   return true;
@@ -490,9 +517,9 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
     return result;
   }
   RayStatistics<Real>& stats = result.Statistics;
-  const Real scale = Real(0.275) * tolerance, reserve = Real(0.05) * tolerance;
+  const Real reserve = Real(0.05) * tolerance;
   const Real terminationBound = Real(0.15) * tolerance;
-  const Real inverseL = Real(1) / L;
+  const detail::ShadedBudget<Real> budget{ Real(0.275) * tolerance, Real(1) / L, reserve };
   const int degree = detail::ShadedDegree(tolerance);
   glm::vec<3, Real> color(Real(0));
   Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
@@ -509,10 +536,10 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
       detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
       const glm::vec<3, Real> start = shading.WorldOrigin + rp.Begin * shading.WorldDirection;
       const bool integrated = degree == 3
-        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale,
-            inverseL, color, overdraft, length, stats)
-        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, scale,
-            inverseL, color, overdraft, length, stats);
+        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget,
+            color, overdraft, length, stats)
+        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget,
+            color, overdraft, length, stats);
       if (!integrated)
       {
         result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "
