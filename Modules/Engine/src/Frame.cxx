@@ -348,8 +348,8 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
         result = method.Shading
           ? an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
               segments.size(), *method.Pieces, tolerance, ShadingOf(method, origin, direction))
-          : an::IntegratePiecewise(
-              volume, origin, direction, segments.data(), segments.size(), *method.Pieces, tolerance);
+          : an::IntegratePiecewise(volume, origin, direction, segments.data(), segments.size(),
+              *method.Pieces, tolerance);
         return;
       }
       result = WithField(volume, method, origin, direction,

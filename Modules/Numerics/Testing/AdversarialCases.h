@@ -321,8 +321,8 @@ inline an::RayResult<double> Integrate(const Case& c,
   settings.FieldMaximum = 255.0;
   if (lighting)
   {
-    const an::ShadedRayField<double, an::TrilinearVolume<double, double>> field{ volume,
-      ray.Origin, ray.Direction, shading };
+    const an::ShadedRayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
+      ray.Direction, shading };
     return an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
   }
   const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,

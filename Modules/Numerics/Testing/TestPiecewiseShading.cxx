@@ -42,17 +42,7 @@ ShadingModel<double> Headlight(const glm::dvec3& toViewer)
 
 ShadingModel<double> Sharp()
 {
-  ShadingModel<double> m;
-  m.Ambient = 0.05;
-  m.Diffuse = 0.6;
-  m.Specular = 0.7;
-  m.SpecularPower = 128.0;
-  m.TwoSided = false;
-  m.Lights.push_back({ glm::normalize(glm::dvec3(0.3, -0.5, 0.8)), glm::dvec3(0.9, 0.7, 0.5),
-    glm::dvec3(1.0, 0.9, 0.8) });
-  m.Lights.push_back(
-    { glm::normalize(glm::dvec3(-0.6, 0.2, 0.3)), glm::dvec3(0.2, 0.3, 0.6), glm::dvec3(0.5) });
-  return m;
+  return adversarial::SharpLighting();
 }
 
 // Positional lights in a volume of dimensions `dims` (grid = world): a point
@@ -331,8 +321,8 @@ double RemainderRatio(double r)
     {
       colour[k] = Model(0.6);
     }
-    LitColourOf(model, colour, detail::GradientPolynomials<double, N>(G, 0.3, radius, false), toViewer,
-      static_cast<const Model*>(nullptr), lit);
+    LitColourOf(model, colour, detail::GradientPolynomials<double, N>(G, 0.3, radius, false),
+      toViewer, static_cast<const Model*>(nullptr), lit);
     return std::max(lit[0].R, std::max(lit[1].R, lit[2].R));
   };
   return remainder(2.0 * r) / remainder(r);
@@ -440,8 +430,8 @@ TEST(PiecewiseShading, RoundingBoundRemainderNearAVanishingGradient)
       }
       const double s = q(v);
       const double tau = p.Tau + s * (p.TauSlope + s * (p.TauCurvature + s * p.TauCubic));
-      return model.Shade(p.Colour + p.ColourSlope * s, g, toViewer, glm::dvec3(0.0))[c] * tau *
-        Ta * std::exp(-depth(v));
+      return model.Shade(p.Colour + p.ColourSlope * s, g, toViewer, glm::dvec3(0.0))[c] * tau * Ta *
+        std::exp(-depth(v));
     };
     // The kink of |n.l| where the gradient nearly vanishes: split there.
     const double kink = 0.59421671;

@@ -39,8 +39,7 @@ template <int N, typename F>
     if (!(std::abs(Evaluate(m, y) - value) <= m.R + slack))
     {
       return ::testing::AssertionFailure()
-        << "at v = " << c + y << ": f = " << value << ", P = " << Evaluate(m, y)
-        << ", R = " << m.R;
+        << "at v = " << c + y << ": f = " << value << ", P = " << Evaluate(m, y) << ", R = " << m.R;
     }
   }
   return ::testing::AssertionSuccess();
@@ -159,13 +158,13 @@ TEST(TaylorModel, Kinks)
     ASSERT_TRUE(Holds(Abs(x), c, r, [&](double v) { return std::abs(g(v)); })) << trial;
     ASSERT_TRUE(Holds(PositivePart(x), c, r, [&](double v) { return std::max(g(v), 0.0); }))
       << trial;
-    ASSERT_TRUE(Holds(Clamp(x, 0.0, 0.5), c, r,
-      [&](double v) { return std::min(std::max(g(v), 0.0), 0.5); }))
+    ASSERT_TRUE(
+      Holds(Clamp(x, 0.0, 0.5), c, r, [&](double v) { return std::min(std::max(g(v), 0.0), 0.5); }))
       << trial;
-    ASSERT_TRUE(Holds(Cases(
-                        x, 0.1, [](const M&) { return M(0.0); },
-                        [](const M& y) { return WholePower(y, 3); }),
-      c, r, [&](double v) { return g(v) > 0.1 ? std::pow(g(v), 3.0) : 0.0; }))
+    ASSERT_TRUE(
+      Holds(Cases(
+              x, 0.1, [](const M&) { return M(0.0); }, [](const M& y) { return WholePower(y, 3); }),
+        c, r, [&](double v) { return g(v) > 0.1 ? std::pow(g(v), 3.0) : 0.0; }))
       << trial;
     // A model crossing the kink keeps its polynomial: its remainder is the
     // excess, at most the range's reach past 0 (plus rounding).
@@ -248,7 +247,7 @@ TEST(TaylorModel, WholeAndHalfPowers)
   for (int trial = 0; trial < 2000; ++trial)
   {
     const double x = u(rng), p = std::round(2.0 * (u(rng) - 50.0) * 0.64) / 2.0; // -32 .. 32
-    const double exact = std::pow(x, p); // within an ulp
+    const double exact = std::pow(x, p);                                         // within an ulp
     ASSERT_LE(std::abs(detail::PowerOf(x, p) - exact), (std::abs(p) + 10.0) * unit * exact)
       << x << "^" << p;
   }

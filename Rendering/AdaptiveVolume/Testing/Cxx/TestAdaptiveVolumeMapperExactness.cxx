@@ -5,9 +5,9 @@
 // (Modules/Numerics/Testing/Oracles.h). The ray of each pixel is rebuilt here
 // independently, from the renderer's display-to-world transform. Required:
 // error within eps on every pixel for the adaptive methods, within 1e-7 for
-// the reference (exact to 1e-9, the image stored in float); the Riemann sum at h = 0.5 must be visibly worse (the test
-// can tell a wrong integral from a right one). Then the same with shading on
-// (one directional light): the lit closed form, within the same bounds.
+// the reference (exact to 1e-9, the image stored in float); the Riemann sum at h = 0.5 must be
+// visibly worse (the test can tell a wrong integral from a right one). Then the same with shading
+// on (one directional light): the lit closed form, within the same bounds.
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkCamera.h"

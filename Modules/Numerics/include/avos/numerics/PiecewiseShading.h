@@ -319,10 +319,10 @@ Real EvaluateAt(const Real (&a)[M], Real y)
 // e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
 // position `start` at v = 0), added to `color`; see above. What
 // sub-intervals exceed their shares by (`budget`) is added to `overdraft`.
-// `length` holds the
-// sub-interval length predicted by the piece before (infinite on a ray's
-// first): the piece starts there, and leaves its own prediction. False when
-// the piece is refused (MaximumSubintervals). N the models' degree.
+// `length` holds the sub-interval length predicted by the piece before
+// (infinite on a ray's first): the piece starts there, and leaves its own
+// prediction. False when the piece is refused (MaximumSubintervals). N the
+// models' degree.
 template <int N, typename Real>
 bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
@@ -363,8 +363,8 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
 
     // The centre and a radius that reaches both ends despite rounding.
     const Real c = v + width / Real(2);
-    const Real r = std::max(c - v, end - c) * (Real(1) + Real(4) * eps) +
-      std::numeric_limits<Real>::min();
+    const Real r =
+      std::max(c - v, end - c) * (Real(1) + Real(4) * eps) + std::numeric_limits<Real>::min();
     TaylorModel<Real, N> lit[3];
     const bool dim = dT <= share;
     if (dim)
@@ -395,11 +395,10 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
       excess = std::max(excess, lit[k].R * dT - share / Real(2));
     }
     // An excess below 2^-20 of what is left of the reserve is taken from it
-    // (counted), however long the sub-interval: so the reserve never runs
-    // out this way ((1 - 2^-20)^65536 > 0.9 of it is left after a piece's
-    // most sub-intervals). Near a vanishing gradient rounding bounds R from
-    // below (1e-10 there on the Bonsai) while the share shrinks with dT: no
-    // length fits, but R dT is tiny.
+    // (counted), however long the sub-interval: each takes at most 2^-20 of
+    // the rest, so the reserve never runs out this way. Near a vanishing
+    // gradient rounding bounds R from below (1e-10 there on the Bonsai)
+    // while the share shrinks with dT: no length fits, but R dT is tiny.
     const bool tiny = excess <= (budget.Reserve - overdraft) * Real(0x1p-20);
     bool fits = known && (excess <= Real(0) || tiny);
     // By parts: P(v) T(v) - P(end) T(end) + T(v) int P' e^{-dtheta}, per
@@ -464,8 +463,10 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
       for (int k = 0; k < 3; ++k)
       {
         const Bounds<Real> range = lit[k].Range();
-        const Real lo = std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
-        const Real hi = std::isnan(range.Hi) ? Real(1) : std::min(std::max(range.Hi, Real(0)), Real(1));
+        const Real lo =
+          std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
+        const Real hi =
+          std::isnan(range.Hi) ? Real(1) : std::min(std::max(range.Hi, Real(0)), Real(1));
         const Real delta0 = (hi - lo) / Real(2);
         Pv[k] = Pe[k] = lo + delta0;
         terms[k] = Real(0);
@@ -536,10 +537,10 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
       detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
       const glm::vec<3, Real> start = shading.WorldOrigin + rp.Begin * shading.WorldDirection;
       const bool integrated = degree == 3
-        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget,
-            color, overdraft, length, stats)
-        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget,
-            color, overdraft, length, stats);
+        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget, color,
+            overdraft, length, stats)
+        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget, color,
+            overdraft, length, stats);
       if (!integrated)
       {
         result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "

@@ -145,7 +145,9 @@ struct TaylorModel
   Bounds<Real> TightRange() const
   {
     const Real r = this->Radius;
-    auto quadratic = [this](Real y) { return this->A[0] + y * (N >= 1 ? this->A[1] + y * (N >= 2 ? this->A[2] : Real(0)) : Real(0)); };
+    auto quadratic = [this](Real y) {
+      return this->A[0] + y * (N >= 1 ? this->A[1] + y * (N >= 2 ? this->A[2] : Real(0)) : Real(0));
+    };
     Real lo = std::min(quadratic(-r), quadratic(r)), hi = std::max(quadratic(-r), quadratic(r));
     if (N >= 2 && this->A[2] != Real(0))
     {
@@ -165,7 +167,9 @@ struct TaylorModel
     {
       higher *= r;
     }
-    const Real e = (higher + this->R + Real(8) * std::numeric_limits<Real>::epsilon() * this->Magnitude()) * Up();
+    const Real e =
+      (higher + this->R + Real(8) * std::numeric_limits<Real>::epsilon() * this->Magnitude()) *
+      Up();
     const Bounds<Real> tight = Bounds<Real>::Outward(lo - e, hi + e);
     return Intersect(tight, this->Range());
   }
@@ -348,10 +352,7 @@ TaylorModel<Real, N> ComposeTaylor(
   m.R = (m.R + coefficientError * error + tail * power * U) * TaylorModel<Real, N>::Up();
   return m.Checked();
 }
-} // namespace detail
 
-namespace detail
-{
 // x^p for x > 0: by squaring (and a square root) where p is a whole or half
 // number up to 32 in magnitude (the specular powers and the normalisation's
 // -1/2, several times cheaper than std::pow), within (|p| + 8) u <= 40 u (a
@@ -463,8 +464,8 @@ TaylorModel<Real, N> Clamp(const TaylorModel<Real, N>& a, Real lo, Real hi)
   {
     return TaylorModel<Real, N>(x.Hi <= lo ? lo : hi);
   }
-  const TaylorModel<Real, N> hull = TaylorModel<Real, N>::Enclosing(
-    Bounds<Real>(std::max(x.Lo, lo), std::min(x.Hi, hi)), a.Radius);
+  const TaylorModel<Real, N> hull =
+    TaylorModel<Real, N>::Enclosing(Bounds<Real>(std::max(x.Lo, lo), std::min(x.Hi, hi)), a.Radius);
   if (!(a.A[0] >= lo && a.A[0] <= hi))
   {
     return hull;
@@ -472,7 +473,8 @@ TaylorModel<Real, N> Clamp(const TaylorModel<Real, N>& a, Real lo, Real hi)
   const Real up = std::max(lo - x.Lo, Real(0)), down = std::max(x.Hi - hi, Real(0));
   TaylorModel<Real, N> m = a;
   m.A[0] += (up - down) / Real(2);
-  m.R = (a.R + (up + down) / Real(2) + Real(2) * std::numeric_limits<Real>::epsilon() * std::abs(m.A[0])) *
+  m.R = (a.R + (up + down) / Real(2) +
+          Real(2) * std::numeric_limits<Real>::epsilon() * std::abs(m.A[0])) *
     TaylorModel<Real, N>::Up();
   return m.R <= hull.R ? m : hull;
 }
@@ -533,7 +535,8 @@ TaylorModel<Real, N> PositivePart(const TaylorModel<Real, N>& a)
 // lies in, or, where it holds the threshold, the constant model of the hull
 // of both cases, each over its part of the range.
 template <typename Real, int N, typename Below, typename Above>
-TaylorModel<Real, N> Cases(const TaylorModel<Real, N>& x, Real threshold, Below&& below, Above&& above)
+TaylorModel<Real, N> Cases(
+  const TaylorModel<Real, N>& x, Real threshold, Below&& below, Above&& above)
 {
   const Real guard = Real(1e-12) * std::max(std::abs(threshold), Real(1e-300));
   const Bounds<Real> v = x.Range();
