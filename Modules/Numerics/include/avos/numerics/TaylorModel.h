@@ -451,6 +451,11 @@ TaylorModel<Real, N> WholePower(TaylorModel<Real, N> x, unsigned n)
 template <typename Real, int N>
 TaylorModel<Real, N> Clamp(const TaylorModel<Real, N>& a, Real lo, Real hi)
 {
+  const Bounds<Real> plain = a.Range(); // enough, and cheaper, where it is inside
+  if (a.Finite() && plain.Lo >= lo && plain.Hi <= hi)
+  {
+    return a;
+  }
   const Bounds<Real> x = a.TightRange();
   if (!a.Finite() || !(x.Lo <= x.Hi))
   {
@@ -488,6 +493,11 @@ namespace detail
 template <typename Real, int N>
 TaylorModel<Real, N> Kink(const TaylorModel<Real, N>& a, bool twoSided)
 {
+  const Bounds<Real> plain = a.Range(); // enough, and cheaper, away from the kink
+  if (a.Finite() && plain.Lo >= Real(0))
+  {
+    return a;
+  }
   const Bounds<Real> x = a.TightRange();
   if (!a.Finite() || !(x.Lo <= x.Hi))
   {
