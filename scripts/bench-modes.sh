@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Figures of docs/RESULTS.md for the mapper's modes beside VTK's mappers, on
-# Bonsai and Foot (800x600, 2 threads, VTK's opacity model, median of 3
-# frames), each image compared with a fine one of ours (shaded: the certified
-# reference):
+# Bonsai and Foot (or AVOS_DATASETS, any of: bonsai foot engine bluntfin)
+# (800x600, 2 threads, VTK's opacity model, median of 3 frames), each image
+# compared with a fine one of ours (shaded: the certified reference):
 #   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
 #   scripts/bench-modes.sh projections [BUILD_DIR]   section 6: additive and average
 #   scripts/bench-modes.sh intensity [BUILD_DIR]     section 4: maximum, minimum, clipped
@@ -34,12 +34,14 @@ reference() { # FILE ARGS...: ours, fine, once
     > /dev/null 2>&1
 }
 
-for ds in bonsai foot; do
-  if [ $ds = bonsai ]; then
-    volume=("$D/volumes/bonsai_zfp.vti" --tf "$D/tf/Bonsai.1.256x256x256.tf1d")
-  else
-    volume=("$D/volumes/foot_zfp.vti" --tf "$D/tf/Foot.tf1d")
-  fi
+for ds in ${AVOS_DATASETS:-bonsai foot}; do
+  case $ds in
+    bonsai) volume=("$D/volumes/bonsai_zfp.vti" --tf "$D/tf/Bonsai.1.256x256x256.tf1d") ;;
+    foot) volume=("$D/volumes/foot_zfp.vti" --tf "$D/tf/Foot.tf1d") ;;
+    engine) volume=("$D/volumes/engine_zfp.vti" --tf "$D/tf/Engine.1.256x256x128.tf1d") ;;
+    bluntfin) volume=("$D/volumes/BluntFin.1.256x128x64.raw" --tf "$D/tf/BluntFin.1.256x128x64.tf1d") ;;
+    *) echo "unknown dataset $ds" >&2; exit 2 ;;
+  esac
   case "$part" in
     shading)
       reference $ds-shaded.exr --method reference --shade
