@@ -284,10 +284,10 @@ void CheckLitModels(unsigned seed)
       {
         // The samples' own rounding: a few ulps of the terms.
         const double slack = 1e-14;
-        ASSERT_LE(std::abs(detail::EvaluateAt(lit[k].A, v - c) - value[k]), lit[k].R + slack)
+        ASSERT_LE(std::abs(lit[k].Evaluate(v - c) - value[k]), lit[k].R + slack)
           << "trial " << trial << ", channel " << k;
-        ASSERT_LE(std::abs(detail::EvaluateAt(fromPolynomials[k].A, v - c) - value[k]),
-          fromPolynomials[k].R + slack)
+        ASSERT_LE(
+          std::abs(fromPolynomials[k].Evaluate(v - c) - value[k]), fromPolynomials[k].R + slack)
           << "trial " << trial << ", channel " << k << ", from the quadratics";
       }
     }

@@ -15,17 +15,6 @@ using namespace avos::numerics;
 
 namespace
 {
-template <int N>
-double Evaluate(const TaylorModel<double, N>& m, double y)
-{
-  double value = m.A[N];
-  for (int k = N - 1; k >= 0; --k)
-  {
-    value = value * y + m.A[k];
-  }
-  return value;
-}
-
 // |f(c + y) - P(y)| <= R at 65 points of [-r, r], up to the samples' own
 // rounding (`slack` relative to the value).
 template <int N, typename F>
@@ -36,10 +25,10 @@ template <int N, typename F>
     const double y = -r + 2.0 * r * i / 64.0;
     const double value = f(c + y);
     const double slack = 1e-14 * (1.0 + std::abs(value));
-    if (!(std::abs(Evaluate(m, y) - value) <= m.R + slack))
+    if (!(std::abs(m.Evaluate(y) - value) <= m.R + slack))
     {
       return ::testing::AssertionFailure()
-        << "at v = " << c + y << ": f = " << value << ", P = " << Evaluate(m, y) << ", R = " << m.R;
+        << "at v = " << c + y << ": f = " << value << ", P = " << m.Evaluate(y) << ", R = " << m.R;
     }
   }
   return ::testing::AssertionSuccess();

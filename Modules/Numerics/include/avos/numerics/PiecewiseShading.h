@@ -259,34 +259,10 @@ private:
       q[k] = G[0][k] * w.x + G[1][k] * w.y + G[2][k] * w.z;
     }
     Real roots[2];
-    int n = 0;
-    if (q[2] == Real(0))
+    const int n = QuadraticRoots(q[2], q[1], q[0], l, roots);
+    for (int i = 0; i < n && this->Count < Capacity; ++i)
     {
-      if (q[1] != Real(0))
-      {
-        roots[n++] = -q[0] / q[1];
-      }
-    }
-    else
-    {
-      const Real discriminant = q[1] * q[1] - Real(4) * q[2] * q[0];
-      if (discriminant >= Real(0))
-      {
-        // The stable pair: no cancellation in either root.
-        const Real s = -(q[1] + std::copysign(std::sqrt(discriminant), q[1])) / Real(2);
-        roots[n++] = s / q[2];
-        if (s != Real(0))
-        {
-          roots[n++] = q[0] / s;
-        }
-      }
-    }
-    for (int i = 0; i < n; ++i)
-    {
-      if (roots[i] > Real(0) && roots[i] < l && this->Count < Capacity)
-      {
-        this->At[this->Count++] = roots[i];
-      }
+      this->At[this->Count++] = roots[i];
     }
   }
 };
@@ -302,18 +278,6 @@ struct ShadedBudget
   Real InverseL;
   Real Reserve;
 };
-
-// P(y) = sum_k a[k] y^k.
-template <typename Real, int M>
-Real EvaluateAt(const Real (&a)[M], Real y)
-{
-  Real value = a[M - 1];
-  for (int k = M - 2; k >= 0; --k)
-  {
-    value = value * y + a[k];
-  }
-  return value;
-}
 
 // int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
 // e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
@@ -410,8 +374,8 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     for (int k = 0; k < 3 && fits; ++k)
     {
       const Real(&a)[N + 1] = lit[k].A;
-      Pv[k] = EvaluateAt(a, v - c);
-      Pe[k] = EvaluateAt(a, end - c);
+      Pv[k] = lit[k].Evaluate(v - c);
+      Pe[k] = lit[k].Evaluate(end - c);
       limits[k] = share / Real(2);
       // P' over the sub-interval: a[1] within sum_j j |a_j| r^(j-1).
       Real bend = Real(0);

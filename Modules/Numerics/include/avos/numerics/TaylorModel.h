@@ -108,6 +108,17 @@ struct TaylorModel
     return m.Checked();
   }
 
+  // P(y) = sum_k A_k y^k.
+  Real Evaluate(Real y) const
+  {
+    Real value = this->A[N];
+    for (int k = N - 1; k >= 0; --k)
+    {
+      value = value * y + this->A[k];
+    }
+    return value;
+  }
+
   // sum_k |A_k| r^k: at least |P(y)| for |y| <= r.
   Real Magnitude() const
   {
@@ -148,7 +159,8 @@ struct TaylorModel
     auto quadratic = [this](Real y) {
       return this->A[0] + y * (N >= 1 ? this->A[1] + y * (N >= 2 ? this->A[2] : Real(0)) : Real(0));
     };
-    Real lo = std::min(quadratic(-r), quadratic(r)), hi = std::max(quadratic(-r), quadratic(r));
+    const Real left = quadratic(-r), right = quadratic(r);
+    Real lo = std::min(left, right), hi = std::max(left, right);
     if (N >= 2 && this->A[2] != Real(0))
     {
       const Real vertex = -this->A[1] / (Real(2) * this->A[2]);
