@@ -644,10 +644,7 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
     return true;
   }
   const char* refused = internals.Components > 1 ? "scalars of several components"
-    : this->IntegrationMethod == PIECEWISE_ADAPTIVE
-    ? "the piecewise method (its extinction is then no polynomial along a piece; the sampled "
-      "methods take it: Riemann, AdaptiveCoupled, AdaptiveDecoupled, Reference)"
-    : this->BlendMode != COMPOSITE_BLEND ? "projections"
+    : this->BlendMode != COMPOSITE_BLEND         ? "projections"
     : internals.View.Field != avos::engine::ScalarField::Trilinear
     ? "a field constant per cell (it has no gradient)"
     : nullptr;
@@ -687,11 +684,11 @@ bool vtkAdaptiveVolumeMapper::UpdatePieces()
 {
   vtkInternals& internals = *this->Internals;
   // Transfer function -> pieces with polynomial extinction, for the
-  // piecewise methods (the reference's too, shaded or not; with gradient
-  // opacity the reference is adaptive Simpson at 1e-9).
+  // piecewise methods (the reference's too, shaded, scaled by gradient
+  // opacity or not).
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
   internals.Piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE || additive ||
-    (this->IntegrationMethod == REFERENCE && !internals.UsesGradientOpacity);
+    this->IntegrationMethod == REFERENCE;
   if (internals.Piecewise)
   {
     // The relative error only matters in VTK's alpha model (the extinction

@@ -89,10 +89,10 @@
  * opacity by G, whose limit as the step shrinks is that extinction; their
  * gradients are finite differences, VTK's GPU mapper's in scalar units per
  * average voxel spacing, divided by a quarter of the data's range and
- * clamped to 1). The sampled methods (Riemann, adaptive, the reference)
- * take it; the piecewise method refuses it (its extinction is then not a
- * polynomial along a piece), and so do projections and fields constant per
- * cell.
+ * clamped to 1). Every method takes it, the piecewise method and the
+ * reference with a proven error (avos/numerics/PiecewiseGradientOpacity.h:
+ * the extinction is then not a polynomial along a piece, it is enclosed);
+ * projections and fields constant per cell refuse it.
  *
  * Shading (the property's Shade, ambient, diffuse, specular and specular
  * power, the renderer's switched-on lights: directional, and positional with

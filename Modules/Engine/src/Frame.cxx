@@ -2,6 +2,7 @@
 
 #include "avos/engine/EmptySpace.h"
 #include "avos/numerics/Extremum.h"
+#include "avos/numerics/PiecewiseGradientOpacity.h"
 #include "avos/numerics/PiecewiseShading.h"
 #include "avos/numerics/Volume.h"
 
@@ -313,6 +314,20 @@ void Extremum(const VolumeT& volume, const FrameMethod& method, const glm::dvec3
   result.Statistics.Samples = e.Cells;
 }
 
+// The piecewise method with the method's gradient opacity (and shading)
+// over `segments` within `tolerance`.
+template <typename VolumeT>
+an::RayResult<double> PiecewiseGradientOpacity(const VolumeT& volume, const FrameMethod& method,
+  const glm::dvec3& origin, const glm::dvec3& direction, const Segments& segments, double tolerance,
+  std::vector<an::StepRecord<double>>* steps)
+{
+  const an::RayShading<double> shading =
+    method.Shading ? ShadingOf(method, origin, direction) : an::RayShading<double>{};
+  return an::IntegratePiecewiseGradientOpacity(volume, origin, direction, segments.data(),
+    segments.size(), *method.Pieces, tolerance, *method.GradientOpacity,
+    method.Shading ? &shading : nullptr, true, steps);
+}
+
 // The composite integral of the ray over `segments` by the method.
 template <typename VolumeT>
 void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec3& origin,
@@ -342,7 +357,13 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
         });
       return;
     case Integration::Reference:
-      if (method.Pieces && !method.GradientOpacity)
+      if (method.Pieces && method.GradientOpacity)
+      {
+        result = PiecewiseGradientOpacity(volume, method, origin, direction, segments,
+          an::PiecewiseReferenceTolerance<double>(), steps);
+        return;
+      }
+      if (method.Pieces)
       {
         const double tolerance = an::PiecewiseReferenceTolerance<double>();
         result = method.Shading
@@ -357,6 +378,12 @@ void Composite(const VolumeT& volume, const FrameMethod& method, const glm::dvec
         { return an::IntegrateReference(field, tf, segments.data(), segments.size()); });
       return;
     case Integration::Piecewise:
+      if (method.GradientOpacity)
+      {
+        result = PiecewiseGradientOpacity(
+          volume, method, origin, direction, segments, method.Adaptive.Tolerance, steps);
+        return;
+      }
       if (method.Shading)
       {
         result = an::IntegratePiecewiseShaded(volume, origin, direction, segments.data(),
@@ -522,7 +549,8 @@ public:
     this->TilesX = (frame.Rect[1] - frame.Rect[0] + TileSize - 1) / TileSize;
     const bool lanes = method.Kind == Integration::Riemann
       ? RiemannKernel(method)
-      : method.Kind == Integration::Piecewise && method.PieceTable && !method.Shading;
+      : method.Kind == Integration::Piecewise && method.PieceTable && !method.Shading &&
+        !method.GradientOpacity;
     this->RaysPerLane = lanes && method.Mode == Blend::Composite && frame.Clip.IsEmpty();
   }
 
@@ -796,11 +824,6 @@ std::string ValidateGradientOpacity(const Scalars& scalars, const FrameMethod& m
   if (!error.empty())
   {
     return error;
-  }
-  if (method.Kind == Integration::Piecewise)
-  {
-    return "gradient opacity is integrated by the sampled methods (Riemann, adaptive, the "
-           "reference), not by the piecewise method";
   }
   if (method.Mode != Blend::Composite)
   {

@@ -16,8 +16,8 @@
  * blend mode and cropping through the mapper; the colour map's vector mode
  * (magnitude or one component of a vector array) is given to the mapper
  * as ParaView gives it to vtkSmartVolumeMapper. What the mapper refuses
- * (isosurface and slice blends, 2D transfer functions, gradient opacity)
- * it refuses with an error. The smart mapper's own settings, which this
+ * (isosurface and slice blends, 2D transfer functions) it refuses with an
+ * error. The smart mapper's own settings, which this
  * mapper does not have, are accepted at their defaults and draw a warning
  * otherwise: the volume rendering mode, global illumination reach and
  * volumetric scattering blending.

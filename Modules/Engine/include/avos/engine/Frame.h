@@ -140,8 +140,9 @@ struct FrameMethod
   // map (x_world = GridToWorld x_grid + GridToWorldOffset: ray directions
   // and positional lights) and the normal matrix (grid gradients to world).
   const numerics::ShadingModel<double>* Shading = nullptr;
-  // Gradient opacity (null: none), its normal matrix set; the sampled
-  // methods only (Riemann, adaptive, the adaptive reference).
+  // Gradient opacity (null: none), its normal matrix set: every composite
+  // method (the piecewise ones and the reference through
+  // PiecewiseGradientOpacity.h where Pieces are given).
   const numerics::GradientOpacity<double>* GradientOpacity = nullptr;
   glm::dmat3 GridToWorld{ 1.0 };
   glm::dvec3 GridToWorldOffset{ 0.0 };

@@ -1,6 +1,7 @@
 // Gradient opacity (vtkVolumeProperty::SetGradientOpacity): the scalar
 // opacity scaled by a function G of the gradient's magnitude, in the
-// sampled methods (RayIntegrators.h).
+// sampled methods (RayIntegrators.h) and the piecewise one
+// (PiecewiseGradientOpacity.h).
 //
 // At a sample, g = |NormalMatrix grad s| is the magnitude of the exact
 // gradient of the trilinear interpolant in scalar units per world unit
@@ -9,10 +10,6 @@
 // G(g), in both opacity models. VTK's mappers multiply each sample's
 // opacity, corrected for their step h, by G: 1 - (1 - alpha)^(h / d) times
 // G, which as h shrinks is tau h G: the same extinction.
-//
-// The piecewise method does not take it: the extinction is then no longer
-// a polynomial along a piece (G of the square root of a quartic), and its
-// certified integration is not implemented; the classes refuse it there.
 #ifndef avos_numerics_GradientOpacity_h
 #define avos_numerics_GradientOpacity_h
 

@@ -1,0 +1,586 @@
+// Gradient opacity in the piecewise method: the extinction tau(s) G(|g|)
+// (GradientOpacity.h), g the world-space gradient of the trilinear
+// interpolant, integrated piece by piece (PiecewiseIntegrator.h) with a
+// proven error, shaded (PiecewiseShading.h) or not.
+//
+// On a piece, v in [0, l] from its start, g's components are quadratics in
+// v, so |g| is the square root of a quartic and G(|g|) a piecewise-linear
+// function of it: the extinction kappa(v) = tau(v) G(|g(v)|) is no longer a
+// polynomial and the depth no longer exact. Two cases:
+// - G constant over an enclosure of |g| on the piece (a flat stretch of G,
+//   where most of a medical preset's pieces lie): kappa = gamma tau, and the
+//   piece is integrated as without gradient opacity, with tau scaled by
+//   gamma: exactly unshaded (the closed-form depth, J by its midpoint bound or
+//   its series), with the enclosures of PiecewiseShading.h shaded. A piece
+//   where G is 0 is empty.
+// - Elsewhere the piece is cut into sub-intervals X = [v0, v0 + h], centre c,
+//   on which a Taylor model (TaylorModel.h) of the extinction, polynomial K
+//   and remainder R_K, |kappa - K| <= R_K, is built from the piece's cubic,
+//   the gradient's quadratics, a model of |g| (the square root of their
+//   squared length, the hull where it reaches 0) and G on the linear stretch
+//   holding |g|'s enclosure (the hull of G's values where it spans a knot),
+//   and a model of the emission E (the colour C(s), or the lit colour),
+//   polynomial P and remainder R_E. With the approximate depth
+//   Theta(u) = int_0^u K (exact, a polynomial), the sub-interval's
+//   contribution T0 int_0^h P K e^{-Theta} is, by parts,
+//     T0 (P(0) - P(h) e^{-Theta(h)}) + T0 int_0^h P' e^{-Theta},
+//   the last term by the series of PiecewiseIntegrator.h (the three channels
+//   at once) or, where P' keeps its sign and K >= 0, the midpoint of its
+//   bounds; and the transmittance after X is T1 = T0 e^{-Theta(h)}.
+//
+// The error. Let theta be the true depth over X: |theta - Theta| <= d =
+// R_K u (+ rounding) at u. The true contribution T0 int E kappa e^{-theta}
+// differs from T0 int P K e^{-Theta} by at most
+//   T0 [R_E (1 - e^{-Theta(h) - d}) + max|P| h (R_K + max|K| e^d (e^d - 1))]
+// (|E - P| <= R_E against the weight kappa e^{-theta}, whose integral is at
+// most 1 - e^{-Theta(h) - d}; then |kappa e^{-theta} - K e^{-Theta}| <= R_K +
+// |K| e^{-Theta} |e^{Theta - theta} - 1|, and e^{-Theta} <= e^d). The true
+// transmittance after X differs from T1 by at most T1 (e^d - 1). Write V_j in
+// [0, 1] for what the rest of the ray from X_j on gives a channel (colour or
+// alpha) per unit transmittance in front, V_j = A_j + t_j V_j+1 with t_j
+// X_j's transmittance: the computed V differs from the true one by at most
+//   sum_j T_j-1 |A'_j - A_j| + T_j |t'_j - t_j| / t'_j
+// (unrolling |V'_j - V_j| <= |A'_j - A_j| + |t'_j - t_j| V_j+1 + t'_j |V'_j+1 -
+// V_j+1|, V_j+1 <= 1, with the computed transmittances T' in front): each
+// sub-interval's error, weighted by the computed transmittance, adds up, with
+// no product of errors. The alpha channel's A_j = 1 - t_j counts |t'_j - t_j|
+// once more: 2 T1 (e^d - 1) per sub-interval in all.
+//
+// Tolerance eps, per channel, as with shading: 0.55 eps for the
+// sub-intervals (each its share 0.275 eps (dT + h / L), half for the model
+// errors above, half for the P' term; an exact piece's J takes its share),
+// 0.05 eps the reserve for excesses at the floor (PiecewiseShading.h), 0.15
+// eps for early termination (the ray stops once T is below it; colours are at
+// most 1), 0.25 eps for VTK's alpha model. So every channel of every ray is
+// within eps, up to rounding (the models take their own into R_K and R_E,
+// and d bounds the rounding of Theta's shift and evaluation too).
+//
+// Termination: as PiecewiseShading.h's sub-intervals (accepted, or shrunk by
+// at least half down to the floor l 2^-40 where they are accepted, at most
+// MaximumSubintervals per piece, then the ray reports an error). A kink of
+// G(|g|) (|g| crossing a knot of G, or vanishing) shrinks R_K only as the
+// sub-interval's length: about log2(G' / eps) halvings around each.
+#ifndef avos_numerics_PiecewiseGradientOpacity_h
+#define avos_numerics_PiecewiseGradientOpacity_h
+
+#include "avos/numerics/GradientOpacity.h"
+#include "avos/numerics/PiecewiseShading.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace avos
+{
+namespace numerics
+{
+
+namespace detail
+{
+// G clamped to [0, 1], as GradientOpacity::Factor applies it.
+template <typename Real>
+Real ClampedFactor(Real value)
+{
+  return std::min(std::max(value, Real(0)), Real(1));
+}
+
+// The range of clamp(G(m), 0, 1) over m in [lo, hi] (0 <= lo <= hi): G is
+// piecewise linear, so its values at lo, hi and both sides of every knot
+// between them.
+template <typename Real>
+Bounds<Real> GradientFactorRange(const TransferFunction<Real>& f, Real lo, Real hi)
+{
+  const Real a = ClampedFactor(f.GetOpacityValue(lo)), b = ClampedFactor(f.GetOpacityValue(hi));
+  Bounds<Real> range(std::min(a, b), std::max(a, b));
+  const auto& pieces = f.GetPieces();
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+  {
+    if (pieces[i].Start > lo && pieces[i].Start <= hi)
+    {
+      const Real left = i == 0
+        ? f.GetOpacityBelow()
+        : pieces[i - 1].Opacity + pieces[i - 1].OpacitySlope * pieces[i - 1].Length;
+      for (const Real value : { ClampedFactor(left), ClampedFactor(pieces[i].Opacity) })
+      {
+        range.Lo = std::min(range.Lo, value);
+        range.Hi = std::max(range.Hi, value);
+      }
+    }
+  }
+  return range;
+}
+
+// A model of clamp(G(m), 0, 1) from a model m of |g| over X: G's linear
+// stretch where m's enclosure lies inside one (clamped as a model), else the
+// hull of G's values over the enclosure.
+template <typename Real, int N>
+TaylorModel<Real, N> GradientFactor(const TransferFunction<Real>& f, const TaylorModel<Real, N>& m)
+{
+  using Model = TaylorModel<Real, N>;
+  const Bounds<Real> x = m.Range();
+  const Real lo = std::max(x.Lo, Real(0)), hi = x.Hi;
+  if (!m.Finite() || !(hi >= lo))
+  {
+    return Model::Enclosing(Bounds<Real>(Real(0), Real(1)), m.Radius);
+  }
+  const auto& pieces = f.GetPieces();
+  // The last piece starting at or below lo (none: below the first knot).
+  const auto after = std::upper_bound(pieces.begin(), pieces.end(), lo,
+    [](Real value, const typename TransferFunction<Real>::Piece& p) { return value < p.Start; });
+  const Real end = after == pieces.end() ? std::numeric_limits<Real>::infinity() : after->Start;
+  if (hi < end)
+  {
+    if (after == pieces.begin())
+    {
+      Model constant(ClampedFactor(f.GetOpacityBelow()));
+      constant.Radius = m.Radius;
+      return constant;
+    }
+    const auto& p = *(after - 1);
+    return Clamp((m - p.Start) * p.OpacitySlope + p.Opacity, Real(0), Real(1));
+  }
+  return Model::Enclosing(GradientFactorRange(f, lo, hi), m.Radius);
+}
+
+// A model of |g| over X from the gradient's models (0 where it vanishes on
+// the whole cell).
+template <typename Real, int N>
+TaylorModel<Real, N> GradientMagnitude(const GradientPolynomials<Real, N>& gradient, Real r)
+{
+  if (gradient.Zero)
+  {
+    TaylorModel<Real, N> zero(Real(0));
+    zero.Radius = r;
+    return zero;
+  }
+  return Pow(gradient.Squared(), Real(0.5));
+}
+
+// The extinction tau(q) G(|g|) over the sub-interval of centre c and radius
+// r of a piece (cubic q, transfer-function piece p, world gradient Gw of
+// G's normal matrix).
+template <int N, typename Real>
+TaylorModel<Real, N> ExtinctionModel(const Cubic<Real>& q,
+  const typename PiecewiseTransferFunction<Real>::Piece& p, const Real Gw[3][3], bool zero,
+  const TransferFunction<Real>& f, Real c, Real r)
+{
+  using Model = TaylorModel<Real, N>;
+  const Real cubic[4] = { q.K[0], q.K[1], q.K[2], q.K[3] };
+  const Model s = Model::Polynomial(cubic, c, r);
+  const Model tau = p.TauCurvature == Real(0) && p.TauCubic == Real(0)
+    ? p.TauSlope * s + p.Tau
+    : ((p.TauCubic * s + p.TauCurvature) * s + p.TauSlope) * s + p.Tau;
+  const GradientPolynomials<Real, N> gradient(Gw, c, r, zero);
+  return tau * GradientFactor(f, GradientMagnitude(gradient, r));
+}
+
+// Whether all of a piece's gradient coefficients are 0.
+template <typename Real>
+bool ZeroGradient(const Real G[3][3])
+{
+  bool zero = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
+  }
+  return zero;
+}
+
+// The range of clamp(G(|g|)) over a whole piece of length l (the models of
+// degree N over it).
+template <int N, typename Real>
+Bounds<Real> PieceFactorRange(const Real Gw[3][3], Real l, const TransferFunction<Real>& f)
+{
+  const Real c = l / Real(2);
+  const Real r = c * (Real(1) + Real(4) * std::numeric_limits<Real>::epsilon()) +
+    std::numeric_limits<Real>::min();
+  const GradientPolynomials<Real, N> gradient(Gw, c, r, ZeroGradient(Gw));
+  const TaylorModel<Real, N> m = GradientMagnitude(gradient, r);
+  const Bounds<Real> x = m.Range();
+  if (!m.Finite() || !(x.Hi >= std::max(x.Lo, Real(0))))
+  {
+    return Bounds<Real>(Real(0), Real(1));
+  }
+  return GradientFactorRange(f, std::max(x.Lo, Real(0)), x.Hi);
+}
+
+// The unshaded piece (q, transfer-function piece p, depth theta, e^{-theta(l)}
+// = El, transmittance Ta in front, monotone s where `monotone`) integrated
+// as IntegratePiecewise does: C(0) Ta - C(l) Ta El + c1 Ta J, J by its
+// midpoint bound or its series within the share budget.Scale (Ta (1 - El) +
+// l / L). False when the series refuses the piece.
+template <typename Real>
+bool ExactPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
+  const PieceDepth<Real>& depth, Real l, Real El, Real Ta, bool monotone,
+  const ShadedBudget<Real>& budget, glm::vec<3, Real>& color, RayStatistics<Real>& stats)
+{
+  const Real qa = q.K[0], ql = q(l);
+  color += Ta * (p.Colour + p.ColourSlope * qa) - Ta * El * (p.Colour + p.ColourSlope * ql);
+  ++stats.Samples;
+  stats.Accept(l);
+  const Real cs = p.ColourSlopeMaximum;
+  if (!(cs > Real(0) && Ta > Real(0)))
+  {
+    return true;
+  }
+  const Real dq = ql - qa;
+  if ((monotone || Monotone(q, l)) &&
+    cs * Ta * std::abs(dq) * (Real(1) - El) / Real(2) <=
+      budget.Scale * (Ta * (Real(1) - El) + l * budget.InverseL))
+  {
+    color += p.ColourSlope * (Ta * dq * (Real(1) + El) / Real(2));
+    return true;
+  }
+  auto allowed = [&](Real Ev, Real Eh, Real h)
+  { return budget.Scale * (Ta * (Ev - Eh) + h * budget.InverseL) / (cs * Ta); };
+  const Real J = SeriesIntegral(depth, q, l, El, allowed, stats);
+  color += p.ColourSlope * (Ta * J);
+  return !std::isnan(J);
+}
+
+// int_0^l E kappa T over a piece whose extinction is not a polynomial (see
+// above): `extinction(c, r)` the model of kappa and `emission(c, r, E)` those
+// of the emission's channels over the sub-interval of centre c and radius
+// r. Ta is the transmittance in front; the piece's own, e^{-Theta} over its
+// sub-intervals, is left in `E`. Sub-interval lengths, budget, overdraft and
+// refusal as ShadedPiece's.
+template <int N, typename Real, typename Extinction, typename Emission>
+bool AttenuatedPiece(Real l, Real Ta, const Extinction& extinction, const Emission& emission,
+  const ShadedBudget<Real>& budget, glm::vec<3, Real>& color, Real& E, Real& overdraft,
+  Real& length, RayStatistics<Real>& stats)
+{
+  using Model = TaylorModel<Real, N>;
+  static constexpr Reciprocals<Real> inverse{};
+  constexpr int Degree = N + 1; // Theta's
+  const Real eps = std::numeric_limits<Real>::epsilon();
+  const Real floor = l * Real(ShadedFloor);
+  Real v = Real(0), h = std::max(std::min(l, length), floor), Ev = Real(1);
+  for (long count = 0; v < l && Ev > Real(0); ++count)
+  {
+    if (count == MaximumSubintervals)
+    {
+      return false;
+    }
+    const Real tried = std::min(h, l - v);
+    const Real end = l - v <= tried ? l : v + tried;
+    const Real width = end - v;
+    const bool atFloor = tried <= floor;
+    const Real c = v + width / Real(2);
+    const Real r =
+      std::max(c - v, end - c) * (Real(1) + Real(4) * eps) + std::numeric_limits<Real>::min();
+
+    // Theta(u) = int_0^u K(v - c + w) dw, u from the sub-interval's start.
+    const Model K = extinction(c, r);
+    ++stats.Samples;
+    Real theta[PieceDepth<Real>::MaximumDegree + 1] = {};
+    std::copy(K.A, K.A + N + 1, theta + 1);
+    ShiftPolynomial(theta + 1, N, v - c);
+    for (int j = Degree; j >= 1; --j)
+    {
+      theta[j] = theta[j] * inverse.R[j];
+    }
+    Real Theta = Real(0);
+    for (int j = Degree; j >= 1; --j)
+    {
+      Theta = (Theta + theta[j]) * width;
+    }
+    const Real A = Magnitude(theta, Degree, width);
+    // |theta - Theta|: R_K u, the shift's rounding (each coefficient within 2 N
+    // u of the terms it sums, |v - c| <= r and u <= 2 r) and Theta's
+    // evaluation.
+    Real reach = Real(0);
+    for (int j = N; j >= 0; --j)
+    {
+      reach = reach * Real(3) * r + std::abs(K.A[j]);
+    }
+    const Real d =
+      (K.R * width + Real(4 * N + 2) * eps * width * reach + Real(16 * (N + 4)) * eps * A) *
+      Model::Up();
+    const Real growth = std::expm1(d); // e^d - 1
+    const Real Eh = Ev * std::exp(-Theta);
+    const Real T0 = Ta * Ev, T1 = Ta * Eh;
+    const Real dT = std::max(T0 - T1, Real(0));
+    const Real spent = T0 * -std::expm1(-(Theta + d)); // at least the true dT
+    const Real share = budget.Scale * (dT + width * budget.InverseL);
+    // The error of the extinction's model, per unit of max|P|, and of the
+    // transmittance after X (counted twice, for alpha).
+    const Real Kmax = K.Magnitude();
+    const Real attenuation = T0 * width * (K.R + Kmax * (Real(1) + growth) * growth);
+    const Real transmitted = Real(2) * T1 * growth;
+
+    Model models[3];
+    const bool dim = spent <= share;
+    if (dim)
+    {
+      for (Model& model : models)
+      {
+        model = Model(Real(0.5));
+        model.R = Real(0.5);
+        model.Radius = r;
+      }
+    }
+    else
+    {
+      emission(c, r, models);
+    }
+    Real ratio = Real(0), excess = Real(0);
+    bool known = std::isfinite(d) && std::isfinite(Kmax);
+    for (int k = 0; k < 3; ++k)
+    {
+      const Real error = models[k].R * spent + models[k].Magnitude() * attenuation + transmitted;
+      known = known && std::isfinite(error);
+      ratio = std::max(ratio, error / (share / Real(2)));
+      excess = std::max(excess, error - share / Real(2));
+    }
+    const bool tiny = excess <= (budget.Reserve - overdraft) * Real(0x1p-20);
+    bool fits = known && (excess <= Real(0) || tiny) && A <= Real(1);
+    Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
+    Real g[3][N], limits[3];
+    bool series = false;
+    // e^{-Theta} decreases where K >= 0 on X: then the midpoint.
+    const bool decreasing = K.Range().Lo >= Real(0);
+    for (int k = 0; k < 3 && fits; ++k)
+    {
+      const Real(&a)[N + 1] = models[k].A;
+      Pv[k] = models[k].Evaluate(v - c);
+      Pe[k] = models[k].Evaluate(end - c);
+      limits[k] = share / Real(2);
+      Real bend = Real(0);
+      for (int j = N; j >= 2; --j)
+      {
+        bend = (bend + Real(j) * std::abs(a[j])) * r;
+        g[k][j - 1] = Real(j) * a[j];
+      }
+      g[k][0] = a[1];
+      const Real dP = Pe[k] - Pv[k];
+      if (decreasing && std::abs(a[1]) > bend * (Real(1) + Real(16) * eps) &&
+        std::abs(dP) * dT <= share)
+      {
+        terms[k] = Ta * dP * (Ev + Eh) / Real(2);
+        std::fill(g[k], g[k] + N, Real(0));
+        continue;
+      }
+      ShiftPolynomial(g[k], N - 1, v - c);
+      series = series || std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); });
+    }
+    if (fits && series)
+    {
+      Real sums[3];
+      fits = SubintervalSeries(theta, Degree, g, width, A, T0, limits, sums);
+      for (int k = 0; k < 3 && fits; ++k)
+      {
+        if (std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); }))
+        {
+          terms[k] = T0 * sums[k];
+        }
+      }
+    }
+    if (!fits && !atFloor)
+    {
+      ++stats.Rejected;
+      h = std::max(tried * NextLengthFactor<N>(ratio, Real(0.5)), floor);
+      continue;
+    }
+    if (!fits)
+    {
+      // At the floor: the emission's constants (the middles of the models'
+      // ranges within [0, 1]), whose P' term is 0; the excess over the whole
+      // share counted.
+      excess = Real(0);
+      for (int k = 0; k < 3; ++k)
+      {
+        const Bounds<Real> range = models[k].Range();
+        const Real lo =
+          std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
+        const Real hi =
+          std::isnan(range.Hi) ? Real(1) : std::min(std::max(range.Hi, Real(0)), Real(1));
+        const Real delta0 = (hi - lo) / Real(2);
+        Pv[k] = Pe[k] = lo + delta0;
+        terms[k] = Real(0);
+        excess = std::max(excess, delta0 * spent + hi * attenuation + transmitted - share);
+      }
+    }
+    overdraft += std::max(excess, Real(0));
+    for (int k = 0; k < 3; ++k)
+    {
+      color[k] += Ta * (Pv[k] * Ev - Pe[k] * Eh) + terms[k];
+    }
+    stats.Accept(width);
+    v = end;
+    Ev = Eh;
+    h = fits && !dim && excess <= Real(0)
+      ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
+      : std::max(fits ? h : Real(0), Real(2) * tried);
+  }
+  E = Ev;
+  length = h;
+  return true;
+}
+
+// One piece of IntegratePiecewiseGradientOpacity with models of degree N:
+// false when refused (`error` says why).
+template <int N, typename Real, typename VolumeT>
+bool GradientOpacityPiece(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const RayPiece<Real>& rp,
+  const typename PiecewiseTransferFunction<Real>::Piece& p, const GradientOpacity<Real>& opacity,
+  const RayShading<Real>* shading, const ShadedBudget<Real>& budget, glm::vec<3, Real>& color,
+  Real& T, Real& overdraft, Real& length, RayStatistics<Real>& stats, std::string& error)
+{
+  const Real l = rp.Length;
+  Real Gw[3][3];
+  PieceGradient(volume, origin, direction, rp, opacity.NormalMatrix, Gw);
+  const bool zero = ZeroGradient(Gw);
+  Real Gs[3][3];
+  if (shading)
+  {
+    PieceGradient(volume, origin, direction, rp, shading->NormalMatrix, Gs);
+  }
+  const glm::vec<3, Real> start =
+    shading ? shading->WorldOrigin + rp.Begin * shading->WorldDirection : glm::vec<3, Real>(0);
+  const Bounds<Real> factor = PieceFactorRange<N>(Gw, l, *opacity.Function);
+  if (factor.Hi <= Real(0))
+  {
+    ++stats.Samples;
+    stats.Accept(l);
+    return true; // empty
+  }
+  if (factor.Lo == factor.Hi)
+  {
+    const Real gamma = factor.Lo;
+    const PieceDepth<Real> depth(
+      rp.Q, gamma * p.Tau, gamma * p.TauSlope, gamma * p.TauCurvature, gamma * p.TauCubic);
+    const Real El = std::exp(-depth(l));
+    bool integrated = true;
+    if (T * (Real(1) - El) > Real(0))
+    {
+      integrated = shading
+        ? ShadedPiece<N>(
+            rp.Q, p, depth, l, El, T, Gs, start, *shading, budget, color, overdraft, length, stats)
+        : ExactPiece(rp.Q, p, depth, l, El, T, rp.Monotone, budget, color, stats);
+    }
+    T *= El;
+    if (!integrated)
+    {
+      error = RefusedPieceError;
+    }
+    return integrated;
+  }
+  auto extinction = [&](Real c, Real r)
+  { return ExtinctionModel<N>(rp.Q, p, Gw, zero, *opacity.Function, c, r); };
+  Real E = Real(1);
+  bool integrated;
+  if (shading)
+  {
+    const bool shadeZero = ZeroGradient(Gs);
+    auto lit = [&](Real c, Real r, TaylorModel<Real, N> models[3])
+    { LitModels<N>(rp.Q, p, Gs, shadeZero, start, *shading, c, r, models); };
+    integrated =
+      AttenuatedPiece<N>(l, T, extinction, lit, budget, color, E, overdraft, length, stats);
+  }
+  else
+  {
+    auto plain = [&](Real c, Real r, TaylorModel<Real, N> models[3])
+    {
+      const Real cubic[4] = { rp.Q.K[0], rp.Q.K[1], rp.Q.K[2], rp.Q.K[3] };
+      const TaylorModel<Real, N> s = TaylorModel<Real, N>::Polynomial(cubic, c, r);
+      for (int k = 0; k < 3; ++k)
+      {
+        models[k] = p.ColourSlope[k] * s + p.Colour[k];
+      }
+    };
+    integrated =
+      AttenuatedPiece<N>(l, T, extinction, plain, budget, color, E, overdraft, length, stats);
+  }
+  T *= E;
+  if (!integrated)
+  {
+    error = "a piece needs more than 65536 enclosures of its extinction (kinks of the gradient "
+            "opacity too close together)";
+  }
+  return integrated;
+}
+} // namespace detail
+
+// The piecewise method (IntegratePiecewise) with the extinction scaled by
+// gradient opacity, G(|grad s|) in scalar units per world unit
+// (GradientOpacity.h), and the emission lit by `shading` where given, within
+// `tolerance` per channel; see above. The volume must be trilinear.
+template <typename Real, typename VolumeT>
+RayResult<Real> IntegratePiecewiseGradientOpacity(const VolumeT& volume,
+  const glm::vec<3, Real>& origin, const glm::vec<3, Real>& direction,
+  const Interval<Real>* segments, std::size_t count, const PiecewiseTransferFunction<Real>& tf,
+  Real tolerance, const GradientOpacity<Real>& opacity,
+  const RayShading<detail::NotDeduced<Real>>* shading = nullptr, bool earlyTermination = true,
+  std::vector<StepRecord<detail::NotDeduced<Real>>>* steps = nullptr)
+{
+  RayResult<Real> result;
+  result.Statistics.Steps = steps;
+  Real L;
+  result.Error =
+    detail::ValidatePiecewise(volume, origin, direction, segments, count, tf, tolerance, L);
+  if (result.Error.empty())
+  {
+    result.Error = opacity.Validate();
+  }
+  if (result.Error.empty() && shading)
+  {
+    result.Error = shading->Model ? shading->Model->Validate() : "no shading model";
+  }
+  if (!result.Error.empty() || !(L > Real(0)))
+  {
+    return result;
+  }
+  RayStatistics<Real>& stats = result.Statistics;
+  const Real reserve = Real(0.05) * tolerance;
+  const Real terminationBound = Real(0.15) * tolerance;
+  const detail::ShadedBudget<Real> budget{ Real(0.275) * tolerance, Real(1) / L, reserve };
+  const int degree = detail::ShadedDegree(tolerance);
+  glm::vec<3, Real> color(Real(0));
+  Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
+  bool stopped = false;
+  auto visit = [&](const RayPiece<Real>& rp) -> bool
+  {
+    ++stats.Pieces;
+    const bool integrated = degree == 3
+      ? detail::GradientOpacityPiece<3>(volume, origin, direction, rp, tf[rp.TF], opacity, shading,
+          budget, color, T, overdraft, length, stats, result.Error)
+      : detail::GradientOpacityPiece<5>(volume, origin, direction, rp, tf[rp.TF], opacity, shading,
+          budget, color, T, overdraft, length, stats, result.Error);
+    if (integrated && overdraft > reserve)
+    {
+      result.Error = "the extinction or the lit colour has kinks closer together than double "
+                     "precision separates (sub-intervals of 2^-40 of a piece exceed the "
+                     "tolerance's reserve)";
+    }
+    if (stats.Steps)
+    {
+      stats.Steps->push_back({ rp.Begin, rp.Length, Real(1) - T });
+    }
+    if (!result.Error.empty() || (earlyTermination && T <= terminationBound))
+    {
+      stats.Terminated = result.Error.empty();
+      stopped = true;
+    }
+    return !stopped;
+  };
+  for (std::size_t j = 0; j < count && !stopped; ++j)
+  {
+    PieceWalk(
+      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, visit);
+  }
+  if (!result.Error.empty())
+  {
+    return result;
+  }
+  detail::PiecewiseRGBA(color, T, result);
+  return result;
+}
+
+} // namespace numerics
+} // namespace avos
+
+#endif
