@@ -4,12 +4,15 @@
 # (800x600, 2 threads, VTK's opacity model, median of 3 frames), each image
 # compared with a fine one of ours (shaded: the certified reference):
 #   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
+#   scripts/bench-modes.sh gradient [BUILD_DIR]      section 5: gradient opacity G = 0 at
+#     |g| = 0 rising to 1 at 20 scalar units per world unit, unshaded and shaded (VTK's
+#     mappers read G on their own axis: their time is comparable, their error is not)
 #   scripts/bench-modes.sh projections [BUILD_DIR]   section 6: additive and average
 #   scripts/bench-modes.sh intensity [BUILD_DIR]     section 4: maximum, minimum, clipped
 # Writes its images and reports into the current folder.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-part="${1:?usage: $0 shading|projections|intensity [BUILD_DIR]}"
+part="${1:?usage: $0 shading|gradient|projections|intensity [BUILD_DIR]}"
 R="${2:-$root/build}/bin/avos-render"
 D="$root/../shared/data"
 
@@ -50,6 +53,18 @@ for ds in ${AVOS_DATASETS:-bonsai foot}; do
           "piecewise --tolerance 0.01" "piecewise --tolerance 0.001"; do
           # shellcheck disable=SC2086
           run $ds "$m ${shade:-unshaded}" $ds-shaded.exr --method $m $shade
+        done
+      done ;;
+    gradient)
+      go=(--gradient-opacity 0,0,20,1)
+      for shade in "" --shade; do
+        # shellcheck disable=SC2086
+        reference $ds-gradient$shade.exr --method reference "${go[@]}" $shade
+        for m in vtk-fixed-point riemann "coupled --tolerance 0.01" "coupled --tolerance 0.001" \
+          "piecewise --tolerance 0.01" "piecewise --tolerance 0.001"; do
+          # shellcheck disable=SC2086
+          run $ds "$m gradient opacity ${shade:-unshaded}" $ds-gradient$shade.exr --method $m \
+            "${go[@]}" $shade
         done
       done ;;
     projections)

@@ -21,6 +21,7 @@
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
 #include "vtkPointData.h"
 #include "vtkRenderWindow.h"
@@ -64,7 +65,7 @@ const char* Usage =
   "         [--compare REF.exr] [--clip NX,NY,NZ,OX,OY,OZ]... [--crop X0,X1,Y0,Y1,Z0,Z1]\n"
   "         [--crop-mode subvolume|fence|inverted-fence|cross|inverted-cross]\n"
   "         [--blend composite|maximum|minimum|average|additive] [--average-range LO,HI]\n"
-  "         [--shade]\n"
+  "         [--shade] [--gradient-opacity G,V[,G,V]...]\n"
   "INPUT: .vti, .mhd/.mha, .nrrd/.nhdr, volvis .raw (Name.1.XxYxZ.raw) or a DICOM folder.\n"
   "--tf gives the paper's extinction semantics (tau per voxel unit); without it a\n"
   "transfer function is derived from the data range, in VTK's semantics.\n"
@@ -89,7 +90,10 @@ const char* Usage =
   "the scalars in --average-range), integrated along the ray in avos's methods.\n"
   "--shade: gradient shading (VTK's ambient 0.1, diffuse 0.7, specular 0.2, power 10,\n"
   "the headlight), with the analytic gradient of the trilinear field in avos's methods\n"
-  "(riemann, coupled, decoupled, piecewise within its tolerance, reference).\n";
+  "(riemann, coupled, decoupled, piecewise within its tolerance, reference).\n"
+  "--gradient-opacity: the property's gradient opacity, knots (G, V): the factor V at the\n"
+  "gradient magnitude G in scalar units per world unit (VTK's mappers read G on their own\n"
+  "axes: docs/GUIDE.md).\n";
 
 struct Options
 {
@@ -112,6 +116,7 @@ struct Options
   int CropFlags = VTK_CROP_SUBVOLUME;
   int Blend = vtkVolumeMapper::COMPOSITE_BLEND;
   bool Shade = false;
+  std::vector<double> GradientOpacity; // (G, V) pairs; empty: none
 };
 
 // "a,b,c" -> numbers; false unless exactly `count` finite numbers.
@@ -237,6 +242,14 @@ std::string Parse(int argc, char* argv[], Options& o)
         return "--clip needs NX,NY,NZ,OX,OY,OZ (a non-zero normal, a point)";
       }
       o.Clip.push_back(plane);
+    }
+    else if (arg == "--gradient-opacity")
+    {
+      const std::size_t count = std::count(value.begin(), value.end(), ',') + 1;
+      if (count % 2 != 0 || !ParseList(value, count, o.GradientOpacity))
+      {
+        return "--gradient-opacity needs pairs G,V of finite numbers";
+      }
     }
     else if (arg == "--average-range")
     {
@@ -467,6 +480,15 @@ int main(int argc, char* argv[])
   }
 
   property->SetShade(o.Shade);
+  if (!o.GradientOpacity.empty())
+  {
+    vtkNew<vtkPiecewiseFunction> gradient;
+    for (std::size_t k = 0; k + 1 < o.GradientOpacity.size(); k += 2)
+    {
+      gradient->AddPoint(o.GradientOpacity[k], o.GradientOpacity[k + 1]);
+    }
+    property->SetGradientOpacity(gradient);
+  }
 
   vtkSmartPointer<vtkVolumeMapper> mapper = app::MakeMapper(o.Settings, voxel);
   auto* adaptive = vtkAdaptiveVolumeMapper::SafeDownCast(mapper);
@@ -570,6 +592,7 @@ int main(int argc, char* argv[])
            << "  \"method\": " << JsonString(o.Settings.Method) << ",\n"
            << "  \"opacity_model\": " << JsonString(o.Opacity) << ",\n"
            << "  \"shade\": " << (o.Shade ? "true" : "false") << ",\n"
+           << "  \"gradient_opacity\": " << (o.GradientOpacity.empty() ? "false" : "true") << ",\n"
            << "  \"parameters\": {\"tolerance\": " << o.Settings.Tolerance
            << ", \"step\": " << o.Settings.Step << ", \"h0\": " << o.Settings.H0
            << ", \"hmin\": " << o.Settings.HMin << ", \"hmax\": " << o.Settings.HMax

@@ -272,6 +272,24 @@ for method in ("coupled", "piecewise"):
 code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--blend", "maximum", "--shade")
 check(code not in (0, -6, -11) and "Cannot shade" in out, "a projection refuses --shade: " + out)
 
+# Gradient opacity: the piecewise method renders it (the report says so) and
+# it changes the image; bad knots are refused.
+plain_png = os.path.join(SCRATCH, "plain.png")
+graded_png = os.path.join(SCRATCH, "graded.png")
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise", "--output",
+                plain_png)
+check(code == 0, "piecewise renders: " + out)
+code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--method", "piecewise",
+                "--gradient-opacity", "0,0,20,1", "--output", graded_png, "--report", shaded_report)
+check(code == 0 and json.load(open(shaded_report))["gradient_opacity"] is True,
+      "piecewise --gradient-opacity renders: " + out)
+check(code == 0 and open(plain_png, "rb").read() != open(graded_png, "rb").read(),
+      "gradient opacity changes the image")
+for bad in ("0,0,20", "0,x", "0,nan"):
+    code, out = run(VOLUME, "--tf", TF, "--size", "32x24", "--gradient-opacity", bad)
+    check(code not in (0, -6, -11) and "--gradient-opacity needs pairs" in out,
+          "--gradient-opacity " + bad + " is refused: " + out)
+
 # Outputs are written whole or not at all: a failing run leaves the previous
 # image and report as they were, and no partial file stays behind.
 kept_png = os.path.join(SCRATCH, "kept.png")

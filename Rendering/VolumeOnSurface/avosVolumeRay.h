@@ -99,6 +99,16 @@ struct VolumeRaySetup
   avos::numerics::ShadingModel<double> Shading;
   double GridToWorldMatrix[16];
 
+  // The property's gradient opacity where it changes anything (Gradient's
+  // Function then points at GradientFunction: the setup is not copied).
+  bool UsesGradientOpacity = false;
+  avos::numerics::TransferFunction<double> GradientFunction;
+  avos::numerics::GradientOpacity<double> Gradient;
+
+  VolumeRaySetup() = default;
+  VolumeRaySetup(const VolumeRaySetup&) = delete;
+  VolumeRaySetup& operator=(const VolumeRaySetup&) = delete;
+
   // Empty, or why the volume or the property cannot be used. `planes`: the
   // clipping planes (world coordinates) that cut every ray; null: none.
   // `lights`: the renderer whose lights shade the rays when the property
@@ -142,7 +152,8 @@ struct VolumeRaySetup
     {
       return "the volume's spacing must be non-zero and finite";
     }
-    const std::string unsupported = UnsupportedPropertySettings(property, lights != nullptr);
+    const std::string unsupported =
+      UnsupportedPropertySettings(property, lights != nullptr, false, 1, true);
     if (!unsupported.empty())
     {
       return unsupported;
@@ -157,6 +168,11 @@ struct VolumeRaySetup
     if (!unconverted.empty())
     {
       return unconverted;
+    }
+    const std::string ungraded = this->PrepareGradientOpacity(property, gridToWorld);
+    if (!ungraded.empty())
+    {
+      return ungraded;
     }
     this->Clip = avos::numerics::ClipRegion<double>();
     const std::string planesError = AddClippingPlanes(planes, gridToWorld->GetData(), this->Clip);
@@ -218,6 +234,37 @@ struct VolumeRaySetup
     return std::string();
   }
 
+  // The gradient opacity from the property (the extinction times G of the
+  // gradient's magnitude in scalar units per world unit, as
+  // vtkAdaptiveVolumeMapper's); empty, or why it cannot be used.
+  std::string PrepareGradientOpacity(vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld)
+  {
+    this->UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
+    if (!this->UsesGradientOpacity)
+    {
+      return std::string();
+    }
+    int approximated = 0;
+    const std::string error =
+      GradientOpacityFromProperty(property, this->GradientFunction, approximated);
+    if (!error.empty())
+    {
+      return "unusable gradient opacity: " + error;
+    }
+    this->ApproximatedIntervals += approximated;
+    glm::dmat3 linear;
+    for (int r = 0; r < 3; ++r)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        linear[c][r] = gridToWorld->GetElement(r, c);
+      }
+    }
+    this->Gradient.Function = &this->GradientFunction;
+    this->Gradient.NormalMatrix = glm::transpose(glm::inverse(linear));
+    return std::string();
+  }
+
   // Shade and Shading from the property and `lights`; empty, or why the
   // lights cannot be used.
   std::string PrepareShading(vtkVolumeProperty* property, vtkRenderer* lights)
@@ -239,11 +286,11 @@ struct VolumeRaySetup
 };
 
 // Whether the rays of `setup` read the engine's view of the scalars: the
-// Riemann kernel's (unshaded), and the piecewise method's cells where the scalars are
-// 8- or 16-bit unsigned (the only ones the cells' kernel reads).
+// Riemann kernel's (unshaded, without gradient opacity), and the piecewise method's cells where the
+// scalars are 8- or 16-bit unsigned (the only ones the cells' kernel reads).
 inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
 {
-  return (setup.Method == RayIntegration::Levoy && !setup.Shade) ||
+  return (setup.Method == RayIntegration::Levoy && !setup.Shade && !setup.UsesGradientOpacity) ||
     (setup.Method == RayIntegration::Piecewise && setup.Scalars &&
       avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType())));
 }
@@ -279,6 +326,7 @@ public:
     {
       ShadeWith(setup.Shading, setup.GridToWorldMatrix, m);
     }
+    m.GradientOpacity = setup.UsesGradientOpacity ? &setup.Gradient : nullptr;
   }
 
   // results[i]: the RGBA of the volume from vertices[i] along directions[i]
@@ -331,7 +379,7 @@ public:
       segments[k].assign(1, { 0.0, lengths[k] });
     }
     if (this->Setup.Engine && this->Setup.Method == RayIntegration::Levoy &&
-      this->Setup.Clip.IsEmpty() && !this->Setup.Shade)
+      this->Setup.Clip.IsEmpty() && !this->Setup.Shade && !this->Setup.UsesGradientOpacity)
     {
       // A ray per lane of the engine's kernel, the same sums as Integrate's.
       thread_local std::vector<avos::engine::RiemannRay> lanes;

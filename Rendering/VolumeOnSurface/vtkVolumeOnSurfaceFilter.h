@@ -47,6 +47,12 @@
  * single-component point scalars; SetVolumeConnection). Steps are in voxel
  * units (the smallest spacing), as in vtkAdaptiveVolumeMapper.
  *
+ * The volume property's gradient opacity scales the extinction as in
+ * vtkAdaptiveVolumeMapper (G of the exact gradient's magnitude, scalar units
+ * per world unit; the piecewise method within Tolerance). Shading is
+ * refused: the cones are cast once for every view, and a lit colour depends
+ * on the viewer (vtkVolumeOnSurfaceMapper, VoS^M*, shades).
+ *
  * Pieces (distributed pipelines): the surface is the piece asked of this
  * filter, with its ghost cells passed through (each vertex is coloured
  * alike on every piece that holds it); the volume is requested whole on

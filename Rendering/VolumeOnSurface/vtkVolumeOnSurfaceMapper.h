@@ -50,6 +50,8 @@
  * positional, spots; avos/numerics/Shading.h), the piecewise method's error
  * within Tolerance as there. The surface itself is then still lit by the
  * actor's property: turn its lighting off to show the rays' colours alone.
+ * Gradient opacity scales the extinction as there too (the piecewise
+ * method within Tolerance).
  *
  * Nothing is cast when neither the camera, the viewport, the surface, the
  * volume, the transfer function, the lights (when shading) nor a parameter

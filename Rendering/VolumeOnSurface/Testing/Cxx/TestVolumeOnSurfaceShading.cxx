@@ -6,8 +6,9 @@
 // constant L (Blinn-Phong under a directional scene light and the headlight,
 // two-sided) and a vertex's colour is L (1 - e^{-tau 1.2 / voxel}), its
 // opacity 1 - e^{-tau 1.2 / voxel}: the chord from the plane down to z = -1.
-// Changing a light with the camera still recasts the rays; unshaded, the
-// colour is c (1 - e^{...}).
+// With a gradient opacity G, |grad s| = 1 per world unit and G(1) = 1/2
+// halves tau. Changing a light with the camera still recasts the rays;
+// unshaded, the colour is c (1 - e^{...}).
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
@@ -80,13 +81,14 @@ int TestVolumeOnSurfaceShading(int, char*[])
     return std::min(std::max(L, 0.0), 1.0);
   };
   // The largest difference of an inner vertex's 8-bit RGBA from the closed
-  // form (`shaded`: with L, otherwise with the colour itself).
-  auto worst = [&](bool shaded, double intensity, int& checked)
+  // form (`shaded`: with L, otherwise with the colour itself; the extinction
+  // tau times `factor`).
+  auto worst = [&](bool shaded, double intensity, int& checked, double factor = 1.0)
   {
     window->Render();
     vtkPolyData* surface = mapper->GetColoredSurface();
     vtkDataArray* colors = surface->GetPointData()->GetScalars();
-    const double alpha = 1.0 - std::exp(-tau * chord / voxel);
+    const double alpha = 1.0 - std::exp(-factor * tau * chord / voxel);
     double w = 0.0;
     checked = 0;
     for (vtkIdType v = 0; v < surface->GetNumberOfPoints(); ++v)
@@ -108,17 +110,26 @@ int TestVolumeOnSurfaceShading(int, char*[])
     return w;
   };
   int checked = 0;
+  vtkNew<vtkPiecewiseFunction> gradient;
+  gradient->AddPoint(0.0, 1.0);
+  gradient->AddPoint(2.0, 0.0);
   for (int method : { vtkVolumeOnSurfaceMapper::PIECEWISE, vtkVolumeOnSurfaceMapper::ADAPTIVE,
          vtkVolumeOnSurfaceMapper::LEVOY })
   {
     mapper->SetIntegrationMethod(method);
-    const double w = worst(true, 0.8, checked);
-    Expect(checked > 500, "the plane's inner vertices are checked");
     // 8-bit rounding (0.5) and eps 1e-3 (0.26); the Riemann sum's last
     // partial step and the adaptive rule's estimate add up to 3.
     const double allowed = method == vtkVolumeOnSurfaceMapper::PIECEWISE ? 0.8 : 3.0;
+    property->DisableGradientOpacityOn();
+    const double w = worst(true, 0.8, checked);
+    Expect(checked > 500, "the plane's inner vertices are checked");
     Expect(w <= allowed, "each vertex's colour = the lit ray integral behind it");
+    property->DisableGradientOpacityOff();
+    property->SetGradientOpacity(gradient);
+    Expect(worst(true, 0.8, checked, 0.5) <= allowed,
+      "with gradient opacity G(1) = 1/2, the lit ray integral with tau / 2");
   }
+  property->DisableGradientOpacityOn();
   // A light changed, the camera still: the rays are cast again.
   mapper->SetIntegrationMethodToPiecewise();
   key->SetIntensity(0.3);
