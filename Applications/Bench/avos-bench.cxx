@@ -73,7 +73,8 @@ const char* Usage =
   "--adversarial: no rendering; the numerical core's adversarial accuracy suite (thin\n"
   "layers, jumps, extinction 50, Marschner-Lobb, random 64-knot functions) with RAYS\n"
   "random rays per case, the piecewise, coupled and decoupled methods against the\n"
-  "exact reference, then shaded on RAYS / 10 rays, into --output/adversarial.md\n"
+  "exact reference, then shaded, and shaded with gradient opacity, on RAYS / 10 rays,\n"
+  "into --output/adversarial.md\n"
   "(100000 for the issue's figures).\n";
 
 struct Dataset

@@ -128,8 +128,8 @@ check(code == 0 and all(os.path.getsize(os.path.join(SCRATCH, name)) > 1000 for 
 code, out = run("--replot", "--output", os.path.join(SCRATCH, "nothing"))
 check(code != 0 and "no results" in out, "--replot without results is refused: " + out[-300:])
 
-# --adversarial: the numerical core's suite, no rendering, unshaded then
-# shaded (on a tenth of the rays). Every piecewise row keeps every ray within
+# --adversarial: the numerical core's suite, no rendering, unshaded, then
+# shaded and shaded with gradient opacity (on a tenth of the rays). Every piecewise row keeps every ray within
 # eps (>= 99.9 % required) with its largest error within 2 eps; the paper's
 # coupled rule misses by more than 10 eps somewhere.
 adversarial = os.path.join(SCRATCH, "adversarial")
@@ -141,8 +141,9 @@ if code == 0:
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) == 13 and cells[1] in ("piecewise", "coupled", "decoupled"):
             rows.append(cells)
-check(len(rows) == 2 * 8 * 9,
-      "unshaded and shaded, 8 cases x 3 methods x 3 tolerances: %d rows" % len(rows))
+check(len(rows) == 3 * 8 * 9,
+      "unshaded, shaded and with gradient opacity, 8 cases x 3 methods x 3 tolerances: %d rows"
+      % len(rows))
 for cells in rows:
     if cells[1] == "piecewise":
         check(min(float(v) for v in cells[3:7]) >= 99.9 and float(cells[8]) <= 2.0,

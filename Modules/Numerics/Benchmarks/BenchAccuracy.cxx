@@ -3,7 +3,8 @@
 // (default 100,000), then the piecewise, coupled and decoupled methods at
 // eps 0.01, 0.001 and 1e-4: % of rays within eps per RGBA channel, the
 // largest error, samples, cells and pieces per ray, seconds; then the same
-// shaded on M rays (default 10,000). Markdown on standard output.
+// shaded on M rays (default 10,000), and shaded with a gradient opacity on M
+// rays. Markdown on standard output.
 //   avos-bench-accuracy [--rays N] [--shaded-rays M] [--threads T]
 #include "AdversarialReport.h"
 

@@ -2,11 +2,15 @@
 // which an error estimate from samples can be blind (layers thinner than a
 // voxel, jumps, huge extinction, high-frequency fields), random rays through
 // them, and the tally of each method's error against the exact piecewise
-// reference, unshaded or lit (SharpLighting). Shared by the numerical core's
+// reference, unshaded or lit (SharpLighting), with or without a gradient
+// opacity whose knots the case's gradients cross (CrossedGradientOpacity).
+// Shared by the numerical core's
 // tests (few rays) and avos-bench-accuracy (100,000 rays per case).
 #ifndef avos_numerics_AdversarialCases_h
 #define avos_numerics_AdversarialCases_h
 
+#include "avos/numerics/GradientOpacity.h"
+#include "avos/numerics/PiecewiseGradientOpacity.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/PiecewiseShading.h"
 #include "avos/numerics/RayIntegrators.h"
@@ -20,6 +24,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace adversarial
@@ -271,6 +276,32 @@ inline an::ShadingModel<double> SharpLighting()
   return m;
 }
 
+// A gradient opacity G whose knots a case's gradients cross: 0.05 at 0, 1 at
+// a quarter of the largest gradient at a cell centre, 0.35 at 0.6 of it.
+inline an::TransferFunction<double> CrossedGradientOpacity(const Case& c)
+{
+  const an::TrilinearVolume<double, double> volume(c.Data.data(), c.Dimensions);
+  double largest = 0.0;
+  for (int k = 1; k + 1 < c.Dimensions[2]; ++k)
+  {
+    for (int j = 1; j + 1 < c.Dimensions[1]; ++j)
+    {
+      for (int i = 1; i + 1 < c.Dimensions[0]; ++i)
+      {
+        largest =
+          std::max(largest, glm::length(volume.Gradient(glm::dvec3(i + 0.5, j + 0.5, k + 0.5))));
+      }
+    }
+  }
+  an::TransferFunction<double> g;
+  g.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  g.AddOpacityKnot(0.0, 0.05);
+  g.AddOpacityKnot(0.25 * largest, 1.0);
+  g.AddOpacityKnot(0.6 * largest, 0.35);
+  g.Finalize();
+  return g;
+}
+
 enum class Method
 {
   Piecewise,
@@ -294,17 +325,26 @@ inline const char* MethodName(Method m)
   }
 }
 
-// Integrates one ray with a method at a tolerance, lit by `lighting` where
-// given (grid = world, seen along the ray); `tf` is the case's function
-// prepared for that tolerance (piecewise methods).
+// Integrates one ray with a method at a tolerance, lit by `lighting` and
+// scaled by the gradient opacity `opacity` where given (grid = world, seen
+// along the ray); `tf` is the case's function prepared for that tolerance
+// (piecewise methods).
 inline an::RayResult<double> Integrate(const Case& c,
   const an::PiecewiseTransferFunction<double>& tf, const Ray& ray, Method method, double eps,
-  const an::ShadingModel<double>* lighting = nullptr)
+  const an::ShadingModel<double>* lighting = nullptr,
+  const an::GradientOpacity<double>* opacity = nullptr)
 {
   const an::TrilinearVolume<double, double> volume(c.Data.data(), c.Dimensions);
   const an::RayShading<double> shading{ lighting, glm::dmat3(1.0), -ray.Direction, ray.Origin,
     ray.Direction };
-  if ((method == Method::Piecewise || method == Method::Reference) && lighting)
+  const bool piecewise = method == Method::Piecewise || method == Method::Reference;
+  if (piecewise && opacity)
+  {
+    const an::Interval<double> whole{ 0.0, ray.Length };
+    return an::IntegratePiecewiseGradientOpacity(volume, ray.Origin, ray.Direction, &whole, 1, tf,
+      eps, *opacity, lighting ? &shading : nullptr);
+  }
+  if (piecewise && lighting)
   {
     const an::Interval<double> whole{ 0.0, ray.Length };
     return an::IntegratePiecewiseShaded(
@@ -319,15 +359,21 @@ inline an::RayResult<double> Integrate(const Case& c,
   settings.Coupling = method == Method::Coupled ? an::Strategy::Coupled : an::Strategy::Decoupled;
   settings.FieldMinimum = 0.0;
   settings.FieldMaximum = 255.0;
+  auto adaptive = [&](const auto& field)
+  {
+    using Field = std::decay_t<decltype(field)>;
+    return opacity
+      ? an::IntegrateAdaptive(
+          an::GradientOpacityField<double, Field>{ field, opacity }, c.TF, ray.Length, settings)
+      : an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
+  };
   if (lighting)
   {
-    const an::ShadedRayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
-      ray.Direction, shading };
-    return an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
+    return adaptive(an::ShadedRayField<double, an::TrilinearVolume<double, double>>{
+      volume, ray.Origin, ray.Direction, shading });
   }
-  const an::RayField<double, an::TrilinearVolume<double, double>> field{ volume, ray.Origin,
-    ray.Direction };
-  return an::IntegrateAdaptive(field, c.TF, ray.Length, settings);
+  return adaptive(
+    an::RayField<double, an::TrilinearVolume<double, double>>{ volume, ray.Origin, ray.Direction });
 }
 
 struct Tally
@@ -354,11 +400,33 @@ struct Tally
   }
 };
 
-// The exact reference of rays [0, count) of a case (lit by `lighting`
-// where given).
-inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int threads = 1,
-  const an::ShadingModel<double>* lighting = nullptr)
+// The case's gradient opacity (CrossedGradientOpacity) where `graded`.
+struct CaseGradient
 {
+  an::TransferFunction<double> Function;
+  an::GradientOpacity<double> Opacity;
+  bool Graded;
+
+  CaseGradient(const Case& c, bool graded)
+    : Graded(graded)
+  {
+    if (graded)
+    {
+      this->Function = CrossedGradientOpacity(c);
+      this->Opacity.Function = &this->Function;
+    }
+  }
+  CaseGradient(const CaseGradient&) = delete;
+  CaseGradient& operator=(const CaseGradient&) = delete;
+  const an::GradientOpacity<double>* Get() const { return this->Graded ? &this->Opacity : nullptr; }
+};
+
+// The exact reference of rays [0, count) of a case (lit by `lighting`
+// where given, with its gradient opacity where `graded`).
+inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int threads = 1,
+  const an::ShadingModel<double>* lighting = nullptr, bool graded = false)
+{
+  const CaseGradient gradient(c, graded);
   an::PiecewiseTransferFunction<double> tf;
   tf.Build(c.TF, 1e-7);
   std::vector<glm::dvec4> rgba(count);
@@ -367,7 +435,7 @@ inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int thr
     for (unsigned i = begin; i < end; ++i)
     {
       rgba[i] = Integrate(c, tf, MakeRay(c, i), Method::Reference,
-        an::PiecewiseReferenceTolerance<double>(), lighting)
+        an::PiecewiseReferenceTolerance<double>(), lighting, gradient.Get())
                   .RGBA;
     }
   };
@@ -384,10 +452,12 @@ inline std::vector<glm::dvec4> References(const Case& c, unsigned count, int thr
 }
 
 // A method's errors on rays [0, reference.size()) of a case (lit by
-// `lighting` where given).
+// `lighting` where given, with its gradient opacity where `graded`).
 inline Tally Measure(const Case& c, const std::vector<glm::dvec4>& reference, Method method,
-  double eps, int threads = 1, const an::ShadingModel<double>* lighting = nullptr)
+  double eps, int threads = 1, const an::ShadingModel<double>* lighting = nullptr,
+  bool graded = false)
 {
+  const CaseGradient gradient(c, graded);
   an::PiecewiseTransferFunction<double> tf;
   tf.Build(c.TF, an::PiecewiseRelativeError(eps));
   const unsigned count = static_cast<unsigned>(reference.size());
@@ -397,7 +467,8 @@ inline Tally Measure(const Case& c, const std::vector<glm::dvec4>& reference, Me
     Tally& tally = partial[static_cast<std::size_t>(t)];
     for (unsigned i = count * t / threads; i < count * (t + 1) / threads; ++i)
     {
-      const an::RayResult<double> r = Integrate(c, tf, MakeRay(c, i), method, eps, lighting);
+      const an::RayResult<double> r =
+        Integrate(c, tf, MakeRay(c, i), method, eps, lighting, gradient.Get());
       ++tally.Rays;
       tally.Failures += r.Error.empty() ? 0 : 1;
       tally.Samples += static_cast<double>(r.Statistics.Samples);

@@ -165,26 +165,6 @@ TEST(PiecewiseGradientOpacity, BilinearFieldAgainstItsClosedForm)
 
 namespace
 {
-// A G whose knots the case's gradients cross: 0.05 at 0, 1 at a quarter of
-// the largest central-difference gradient, 0.35 at 0.6 of it.
-TransferFunction<double> CrossedFactor(const adversarial::Case& c)
-{
-  const Volume volume(c.Data.data(), c.Dimensions);
-  double largest = 0.0;
-  for (int k = 1; k + 1 < c.Dimensions[2]; ++k)
-  {
-    for (int j = 1; j + 1 < c.Dimensions[1]; ++j)
-    {
-      for (int i = 1; i + 1 < c.Dimensions[0]; ++i)
-      {
-        largest =
-          std::max(largest, glm::length(volume.Gradient(glm::dvec3(i + 0.5, j + 0.5, k + 0.5))));
-      }
-    }
-  }
-  return Factor({ { 0.0, 0.05 }, { 0.25 * largest, 1.0 }, { 0.6 * largest, 0.35 } });
-}
-
 struct Outcome
 {
   double MaximumError = 0.0;
@@ -209,7 +189,7 @@ void Compare(
     EXPECT_EQ(pieces[e].Build(tf, PiecewiseRelativeError(Tolerances[e])), "");
   }
   const Volume volume(c.Data.data(), c.Dimensions);
-  const TransferFunction<double> g = CrossedFactor(c);
+  const TransferFunction<double> g = adversarial::CrossedGradientOpacity(c);
   GradientOpacity<double> opacity;
   opacity.Function = &g;
   const ShadingModel<double> sharp = adversarial::SharpLighting();
