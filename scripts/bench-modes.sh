@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Figures of docs/RESULTS.md for the mapper's modes beside VTK's mappers, on
 # Bonsai and Foot (or AVOS_DATASETS, any of: bonsai foot engine bluntfin)
-# (800x600, 2 threads, VTK's opacity model, median of 3 frames), each image
-# compared with a fine one of ours (shaded: the certified reference):
+# (800x600, 2 threads, VTK's opacity model, median of 3 frames; the default
+# view, or AVOS_VIEW's avos-render options: "--azimuth 37 --elevation 23 --zoom 1.3" is
+# scripts/bench-engine.py's oblique view),
+# each image compared with a fine one of ours (shaded: the certified reference):
 #   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
 #   scripts/bench-modes.sh gradient [BUILD_DIR]      section 5: gradient opacity G = 0 at
 #     |g| = 0 rising to 1 at 20 scalar units per world unit, unshaded and shaded (VTK's
@@ -14,13 +16,15 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 part="${1:?usage: $0 shading|gradient|projections|intensity [BUILD_DIR]}"
 R="${2:-$root/build}/bin/avos-render"
+read -r -a view <<< "${AVOS_VIEW:-}"
 D="$root/../shared/data"
 
 # run DATASET LABEL REFERENCE ARGS...: renders, compares, prints one line.
 run() {
   local ds="$1" label="$2" ref="$3"
   shift 3
-  if ! xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 --frames "${frames:-3}" "$@" \
+  if ! xvfb-run -a "$R" "${volume[@]}" "${view[@]}" --opacity vtk --size 800x600 \
+    --frames "${frames:-3}" "$@" \
     --compare "$ref" --report r.json > /dev/null 2>&1; then
     echo "$ds $label: failed"
     return
@@ -33,7 +37,7 @@ print('$ds', '$label', 'median %.3f s' % r['median_seconds'], 'max error R %.3g'
 reference() { # FILE ARGS...: ours, fine, once
   local file="$1"
   shift
-  xvfb-run -a "$R" "${volume[@]}" --opacity vtk --size 800x600 "$@" --output "$file" \
+  xvfb-run -a "$R" "${volume[@]}" "${view[@]}" --opacity vtk --size 800x600 "$@" --output "$file" \
     > /dev/null 2>&1
 }
 

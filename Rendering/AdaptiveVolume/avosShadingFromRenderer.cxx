@@ -77,17 +77,36 @@ std::string avos::ShadingFromRenderer(vtkRenderer* ren, vtkVolumeProperty* prope
   return std::string();
 }
 
-void avos::ShadeWith(const numerics::ShadingModel<double>& model, const double gridToWorld[16],
-  engine::FrameMethod& method)
+namespace
 {
-  method.Shading = &model;
+// The linear part of `gridToWorld` (row-major 4x4).
+glm::dmat3 LinearPart(const double gridToWorld[16])
+{
+  glm::dmat3 linear;
   for (int r = 0; r < 3; ++r)
   {
     for (int c = 0; c < 3; ++c)
     {
-      method.GridToWorld[c][r] = gridToWorld[4 * r + c]; // glm: [column][row]
+      linear[c][r] = gridToWorld[4 * r + c]; // glm: [column][row]
     }
+  }
+  return linear;
+}
+} // namespace
+
+glm::dmat3 avos::NormalMatrix(const double gridToWorld[16])
+{
+  return glm::transpose(glm::inverse(LinearPart(gridToWorld)));
+}
+
+void avos::ShadeWith(const numerics::ShadingModel<double>& model, const double gridToWorld[16],
+  engine::FrameMethod& method)
+{
+  method.Shading = &model;
+  method.GridToWorld = LinearPart(gridToWorld);
+  for (int r = 0; r < 3; ++r)
+  {
     method.GridToWorldOffset[r] = gridToWorld[4 * r + 3];
   }
-  method.NormalMatrix = glm::transpose(glm::inverse(method.GridToWorld));
+  method.NormalMatrix = NormalMatrix(gridToWorld);
 }

@@ -1,13 +1,16 @@
 // A vtkVolumeProperty's shading and a renderer's switched-on lights as the
 // numerical core's ShadingModel, and the grid-to-world maps a ray's shading
-// reads, shared by the classes that shade rays (vtkAdaptiveVolumeMapper,
-// vtkVolumeOnSurfaceMapper). Not wrapped: it speaks the core's types.
+// and gradient opacity read, shared by the classes that shade rays or scale
+// them by gradient opacity (vtkAdaptiveVolumeMapper, the Volume on Surface
+// classes). Not wrapped: it speaks the core's types.
 #ifndef avosShadingFromRenderer_h
 #define avosShadingFromRenderer_h
 
 #include "avosRenderingAdaptiveVolumeModule.h" // For export macro
 
 #include "avos/numerics/Shading.h" // For ShadingModel
+
+#include <glm/glm.hpp> // For glm::dmat3
 
 #include <string> // For std::string
 #include <vector> // For std::vector
@@ -33,6 +36,12 @@ struct FrameMethod;
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ShadingFromRenderer(vtkRenderer* ren,
   vtkVolumeProperty* property, numerics::ShadingModel<double>& model, std::vector<double>& key);
+
+/**
+ * The normal matrix of `gridToWorld` (row-major 4x4, affine): grid
+ * gradients to world space, the inverse transpose of its linear part.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT glm::dmat3 NormalMatrix(const double gridToWorld[16]);
 
 /**
  * Points `method` at `model` with the maps of `gridToWorld` (row-major 4x4,

@@ -667,16 +667,8 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
     vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
   }
   // Gradients in grid coordinates to world space (scalar units per world unit).
-  glm::dmat3 gridToWorld;
-  for (int r = 0; r < 3; ++r)
-  {
-    for (int c = 0; c < 3; ++c)
-    {
-      gridToWorld[c][r] = internals.GridToWorld->GetElement(r, c);
-    }
-  }
   internals.Gradient.Function = &internals.GradientFunction;
-  internals.Gradient.NormalMatrix = glm::transpose(glm::inverse(gridToWorld));
+  internals.Gradient.NormalMatrix = avos::NormalMatrix(internals.GridToWorld->GetData());
   return true;
 }
 

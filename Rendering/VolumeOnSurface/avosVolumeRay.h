@@ -252,16 +252,8 @@ struct VolumeRaySetup
       return "unusable gradient opacity: " + error;
     }
     this->ApproximatedIntervals += approximated;
-    glm::dmat3 linear;
-    for (int r = 0; r < 3; ++r)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        linear[c][r] = gridToWorld->GetElement(r, c);
-      }
-    }
     this->Gradient.Function = &this->GradientFunction;
-    this->Gradient.NormalMatrix = glm::transpose(glm::inverse(linear));
+    this->Gradient.NormalMatrix = NormalMatrix(gridToWorld->GetData());
     return std::string();
   }
 
