@@ -13,8 +13,9 @@
 //   gamma: exactly unshaded (the closed-form depth, J by its midpoint bound or
 //   its series), with the enclosures of PiecewiseShading.h shaded. A piece
 //   where G is 0 is empty.
-// - Elsewhere the piece is cut into sub-intervals X = [v0, v0 + h], centre c,
-//   on which a Taylor model (TaylorModel.h) of the extinction, polynomial K
+// - Elsewhere the piece is cut into sub-intervals X = [v0, v0 + h], centre c
+//   (PiecewiseShading.h's SubintervalPiece, shaded ending them at n.l's
+//   kinks too), on which a Taylor model (TaylorModel.h) of the extinction, polynomial K
 //   and remainder R_K, |kappa - K| <= R_K, is built from the piece's cubic,
 //   the gradient's quadratics, a model of |g| (the square root of their
 //   squared length, the hull where it reaches 0) and G on the linear stretch
@@ -242,184 +243,52 @@ bool ExactPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<R
   return !std::isnan(J);
 }
 
-// int_0^l E kappa T over a piece whose extinction is not a polynomial (see
-// above): `extinction(c, r)` the model of kappa and `emission(c, r, E)` those
-// of the emission's channels over the sub-interval of centre c and radius
-// r. Ta is the transmittance in front; the piece's own, e^{-Theta} over its
-// sub-intervals, is left in `E`. Sub-interval lengths, budget, overdraft and
-// refusal as ShadedPiece's.
-template <int N, typename Real, typename Extinction, typename Emission>
-bool AttenuatedPiece(Real l, Real Ta, const Extinction& extinction, const Emission& emission,
-  const ShadedBudget<Real>& budget, glm::vec<3, Real>& color, Real& E, Real& overdraft,
-  Real& length, RayStatistics<Real>& stats)
+// The depth of a piece whose extinction is not a polynomial, for
+// SubintervalPiece (PiecewiseShading.h): on each sub-interval the model K of
+// kappa that `kappa(c, r)` gives, Theta its exact integral, D = R_K h plus
+// the rounding of Theta's shift (each coefficient within 2 N u of the terms
+// it sums, |v - c| <= r and u <= 2 r) and evaluation (16 (N + 4) ulps of its
+// magnitude).
+template <int N, typename Real, typename Extinction>
+struct ModelDepth
 {
-  using Model = TaylorModel<Real, N>;
-  static constexpr Reciprocals<Real> inverse{};
-  constexpr int Degree = N + 1; // Theta's
-  const Real eps = std::numeric_limits<Real>::epsilon();
-  const Real floor = l * Real(ShadedFloor);
-  Real v = Real(0), h = std::max(std::min(l, length), floor), Ev = Real(1);
-  for (long count = 0; v < l && Ev > Real(0); ++count)
-  {
-    if (count == MaximumSubintervals)
-    {
-      return false;
-    }
-    const Real tried = std::min(h, l - v);
-    const Real end = l - v <= tried ? l : v + tried;
-    const Real width = end - v;
-    const bool atFloor = tried <= floor;
-    const Real c = v + width / Real(2);
-    const Real r =
-      std::max(c - v, end - c) * (Real(1) + Real(4) * eps) + std::numeric_limits<Real>::min();
+  const Extinction& Kappa;
 
-    // Theta(u) = int_0^u K(v - c + w) dw, u from the sub-interval's start.
-    const Model K = extinction(c, r);
+  void operator()(Real v, Real end, Real c, Real r, Real Ev, SubintervalDepth<Real>& s,
+    RayStatistics<Real>& stats) const
+  {
+    static constexpr Reciprocals<Real> inverse{};
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    const TaylorModel<Real, N> K = this->Kappa(c, r);
     ++stats.Samples;
-    Real theta[PieceDepth<Real>::MaximumDegree + 1] = {};
-    std::copy(K.A, K.A + N + 1, theta + 1);
-    ShiftPolynomial(theta + 1, N, v - c);
-    for (int j = Degree; j >= 1; --j)
-    {
-      theta[j] = theta[j] * inverse.R[j];
-    }
+    // Theta(u) = int_0^u K(v - c + w) dw, u from the sub-interval's start.
+    s.Degree = N + 1;
+    s.Theta[0] = Real(0);
+    std::copy(K.A, K.A + N + 1, s.Theta + 1);
+    ShiftPolynomial(s.Theta + 1, N, v - c);
     Real Theta = Real(0);
-    for (int j = Degree; j >= 1; --j)
+    const Real width = end - v;
+    for (int j = N + 1; j >= 1; --j)
     {
-      Theta = (Theta + theta[j]) * width;
+      s.Theta[j] *= inverse.R[j];
+      Theta = (Theta + s.Theta[j]) * width;
     }
-    const Real A = Magnitude(theta, Degree, width);
-    // |theta - Theta|: R_K u, the shift's rounding (each coefficient within 2 N
-    // u of the terms it sums, |v - c| <= r and u <= 2 r) and Theta's
-    // evaluation.
     Real reach = Real(0);
     for (int j = N; j >= 0; --j)
     {
       reach = reach * Real(3) * r + std::abs(K.A[j]);
     }
-    const Real d =
-      (K.R * width + Real(4 * N + 2) * eps * width * reach + Real(16 * (N + 4)) * eps * A) *
-      Model::Up();
-    const Real growth = std::expm1(d); // e^d - 1
-    const Real Eh = Ev * std::exp(-Theta);
-    const Real T0 = Ta * Ev, T1 = Ta * Eh;
-    const Real dT = std::max(T0 - T1, Real(0));
-    const Real spent = T0 * -std::expm1(-(Theta + d)); // at least the true dT
-    const Real share = budget.Scale * (dT + width * budget.InverseL);
-    // The error of the extinction's model, per unit of max|P|, and of the
-    // transmittance after X (counted twice, for alpha).
-    const Real Kmax = K.Magnitude();
-    const Real attenuation = T0 * width * (K.R + Kmax * (Real(1) + growth) * growth);
-    const Real transmitted = Real(2) * T1 * growth;
-
-    Model models[3];
-    const bool dim = spent <= share;
-    if (dim)
-    {
-      for (Model& model : models)
-      {
-        model = Model(Real(0.5));
-        model.R = Real(0.5);
-        model.Radius = r;
-      }
-    }
-    else
-    {
-      emission(c, r, models);
-    }
-    Real ratio = Real(0), excess = Real(0);
-    bool known = std::isfinite(d) && std::isfinite(Kmax);
-    for (int k = 0; k < 3; ++k)
-    {
-      const Real error = models[k].R * spent + models[k].Magnitude() * attenuation + transmitted;
-      known = known && std::isfinite(error);
-      ratio = std::max(ratio, error / (share / Real(2)));
-      excess = std::max(excess, error - share / Real(2));
-    }
-    const bool tiny = excess <= (budget.Reserve - overdraft) * Real(0x1p-20);
-    bool fits = known && (excess <= Real(0) || tiny) && A <= Real(1);
-    Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
-    Real g[3][N], limits[3];
-    bool series = false;
-    // e^{-Theta} decreases where K >= 0 on X: then the midpoint.
-    const bool decreasing = K.Range().Lo >= Real(0);
-    for (int k = 0; k < 3 && fits; ++k)
-    {
-      const Real(&a)[N + 1] = models[k].A;
-      Pv[k] = models[k].Evaluate(v - c);
-      Pe[k] = models[k].Evaluate(end - c);
-      limits[k] = share / Real(2);
-      Real bend = Real(0);
-      for (int j = N; j >= 2; --j)
-      {
-        bend = (bend + Real(j) * std::abs(a[j])) * r;
-        g[k][j - 1] = Real(j) * a[j];
-      }
-      g[k][0] = a[1];
-      const Real dP = Pe[k] - Pv[k];
-      if (decreasing && std::abs(a[1]) > bend * (Real(1) + Real(16) * eps) &&
-        std::abs(dP) * dT <= share)
-      {
-        terms[k] = Ta * dP * (Ev + Eh) / Real(2);
-        std::fill(g[k], g[k] + N, Real(0));
-        continue;
-      }
-      ShiftPolynomial(g[k], N - 1, v - c);
-      series = series || std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); });
-    }
-    if (fits && series)
-    {
-      Real sums[3];
-      fits = SubintervalSeries(theta, Degree, g, width, A, T0, limits, sums);
-      for (int k = 0; k < 3 && fits; ++k)
-      {
-        if (std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); }))
-        {
-          terms[k] = T0 * sums[k];
-        }
-      }
-    }
-    if (!fits && !atFloor)
-    {
-      ++stats.Rejected;
-      h = std::max(tried * NextLengthFactor<N>(ratio, Real(0.5)), floor);
-      continue;
-    }
-    if (!fits)
-    {
-      // At the floor: the emission's constants (the middles of the models'
-      // ranges within [0, 1]), whose P' term is 0; the excess over the whole
-      // share counted.
-      excess = Real(0);
-      for (int k = 0; k < 3; ++k)
-      {
-        const Bounds<Real> range = models[k].Range();
-        const Real lo =
-          std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
-        const Real hi =
-          std::isnan(range.Hi) ? Real(1) : std::min(std::max(range.Hi, Real(0)), Real(1));
-        const Real delta0 = (hi - lo) / Real(2);
-        Pv[k] = Pe[k] = lo + delta0;
-        terms[k] = Real(0);
-        excess = std::max(excess, delta0 * spent + hi * attenuation + transmitted - share);
-      }
-    }
-    overdraft += std::max(excess, Real(0));
-    for (int k = 0; k < 3; ++k)
-    {
-      color[k] += Ta * (Pv[k] * Ev - Pe[k] * Eh) + terms[k];
-    }
-    stats.Accept(width);
-    v = end;
-    Ev = Eh;
-    h = fits && !dim && excess <= Real(0)
-      ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
-      : std::max(fits ? h : Real(0), Real(2) * tried);
+    s.D = (K.R * width + Real(4 * N + 2) * eps * width * reach +
+            Real(16 * (N + 4)) * eps * Magnitude(s.Theta, N + 1, width)) *
+      TaylorModel<Real, N>::Up();
+    s.Eh = Ev * std::exp(-Theta);
+    s.R = K.R;
+    s.Magnitude = K.Magnitude();
+    s.Decreasing = K.Range().Lo >= Real(0);
+    s.Ready = true;
   }
-  E = Ev;
-  length = h;
-  return true;
-}
+  void Shift(Real, SubintervalDepth<Real>&) const {}
+};
 
 // One piece of IntegratePiecewiseGradientOpacity with models of degree N:
 // false when refused (`error` says why).
@@ -465,21 +334,27 @@ bool GradientOpacityPiece(const VolumeT& volume, const glm::vec<3, Real>& origin
     T *= El;
     if (!integrated)
     {
-      error = RefusedPieceError;
+      error = shading ? RefusedSubintervalsError : RefusedPieceError;
     }
     return integrated;
   }
   auto extinction = [&](Real c, Real r)
   { return ExtinctionModel<N>(rp.Q, p, Gw, zero, *opacity.Function, c, r); };
+  const ModelDepth<N, Real, decltype(extinction)> depth{ extinction };
   Real E = Real(1);
   bool integrated;
+  KinkCuts<Real> cuts;
   if (shading)
   {
     const bool shadeZero = ZeroGradient(Gs);
+    if (!shadeZero)
+    {
+      cuts.Find(Gs, l, *shading->Model, shading->ToViewer, N);
+    }
     auto lit = [&](Real c, Real r, TaylorModel<Real, N> models[3])
     { LitModels<N>(rp.Q, p, Gs, shadeZero, start, *shading, c, r, models); };
     integrated =
-      AttenuatedPiece<N>(l, T, extinction, lit, budget, color, E, overdraft, length, stats);
+      SubintervalPiece<N>(l, T, depth, lit, cuts, budget, color, E, overdraft, length, stats);
   }
   else
   {
@@ -493,13 +368,12 @@ bool GradientOpacityPiece(const VolumeT& volume, const glm::vec<3, Real>& origin
       }
     };
     integrated =
-      AttenuatedPiece<N>(l, T, extinction, plain, budget, color, E, overdraft, length, stats);
+      SubintervalPiece<N>(l, T, depth, plain, cuts, budget, color, E, overdraft, length, stats);
   }
   T *= E;
   if (!integrated)
   {
-    error = "a piece needs more than 65536 enclosures of its extinction (kinks of the gradient "
-            "opacity too close together)";
+    error = RefusedSubintervalsError;
   }
   return integrated;
 }
@@ -534,49 +408,15 @@ RayResult<Real> IntegratePiecewiseGradientOpacity(const VolumeT& volume,
   {
     return result;
   }
-  RayStatistics<Real>& stats = result.Statistics;
-  const Real reserve = Real(0.05) * tolerance;
-  const Real terminationBound = Real(0.15) * tolerance;
-  const detail::ShadedBudget<Real> budget{ Real(0.275) * tolerance, Real(1) / L, reserve };
-  const int degree = detail::ShadedDegree(tolerance);
-  glm::vec<3, Real> color(Real(0));
-  Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
-  bool stopped = false;
-  auto visit = [&](const RayPiece<Real>& rp) -> bool
+  auto piece = [&](auto degree, const RayPiece<Real>& rp, const detail::ShadedBudget<Real>& budget,
+                 glm::vec<3, Real>& color, Real& T, Real& overdraft, Real& length,
+                 RayStatistics<Real>& stats, std::string& error)
   {
-    ++stats.Pieces;
-    const bool integrated = degree == 3
-      ? detail::GradientOpacityPiece<3>(volume, origin, direction, rp, tf[rp.TF], opacity, shading,
-          budget, color, T, overdraft, length, stats, result.Error)
-      : detail::GradientOpacityPiece<5>(volume, origin, direction, rp, tf[rp.TF], opacity, shading,
-          budget, color, T, overdraft, length, stats, result.Error);
-    if (integrated && overdraft > reserve)
-    {
-      result.Error = "the extinction or the lit colour has kinks closer together than double "
-                     "precision separates (sub-intervals of 2^-40 of a piece exceed the "
-                     "tolerance's reserve)";
-    }
-    if (stats.Steps)
-    {
-      stats.Steps->push_back({ rp.Begin, rp.Length, Real(1) - T });
-    }
-    if (!result.Error.empty() || (earlyTermination && T <= terminationBound))
-    {
-      stats.Terminated = result.Error.empty();
-      stopped = true;
-    }
-    return !stopped;
+    return detail::GradientOpacityPiece<decltype(degree)::value>(volume, origin, direction, rp,
+      tf[rp.TF], opacity, shading, budget, color, T, overdraft, length, stats, error);
   };
-  for (std::size_t j = 0; j < count && !stopped; ++j)
-  {
-    PieceWalk(
-      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, visit);
-  }
-  if (!result.Error.empty())
-  {
-    return result;
-  }
-  detail::PiecewiseRGBA(color, T, result);
+  detail::SubintervalRay(
+    volume, origin, direction, segments, count, tf, tolerance, L, earlyTermination, piece, result);
   return result;
 }
 

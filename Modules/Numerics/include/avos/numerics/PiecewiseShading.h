@@ -71,6 +71,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace avos
@@ -279,33 +280,82 @@ struct ShadedBudget
   Real Reserve;
 };
 
-// int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
-// e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
-// position `start` at v = 0), added to `color`; see above. What
-// sub-intervals exceed their shares by (`budget`) is added to `overdraft`.
-// `length` holds the sub-interval length predicted by the piece before
-// (infinite on a ray's first): the piece starts there, and leaves its own
-// prediction. False when the piece is refused (MaximumSubintervals). N the
-// models' degree.
-template <int N, typename Real>
-bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
-  const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
-  const glm::vec<3, Real>& start, const RayShading<Real>& shading, const ShadedBudget<Real>& budget,
-  glm::vec<3, Real>& color, Real& overdraft, Real& length, RayStatistics<Real>& stats)
+// Why SubintervalPiece refused a piece.
+constexpr const char* RefusedSubintervalsError =
+  "a piece needs more than 65536 sub-intervals of its models (kinks of the lit colour or the "
+  "extinction, or a nearly vanishing gradient, too close together)";
+
+// What a sub-interval [v, v + h] of a piece knows of the depth, from a
+// depth policy (ExactDepth below; ModelDepth in PiecewiseGradientOpacity.h):
+// Theta(u), u in [0, h], the depth integrated (Theta[0] = 0, up to Degree;
+// filled once Ready), Eh = e^{-Theta(h)} times Ev (the transmittance within
+// the piece at the end), D a bound of |theta - Theta| over it (theta the
+// true depth), R and Magnitude the remainder and magnitude of the
+// extinction model Theta integrates (0 where exact), Decreasing where that
+// model is non-negative (e^{-Theta} decreases: the midpoint holds).
+template <typename Real>
+struct SubintervalDepth
 {
+  Real Theta[PieceDepth<Real>::MaximumDegree + 1];
+  int Degree = 0;
+  bool Ready = false;
+  Real Eh = Real(1);
+  Real D = Real(0);
+  Real R = Real(0);
+  Real Magnitude = Real(0);
+  bool Decreasing = true;
+};
+
+// The exact depth of a piece (PieceDepth, e^{-theta(l)} = El): D = R = 0,
+// Theta shifted from the piece's depth only where the series needs it.
+template <typename Real>
+struct ExactDepth
+{
+  const PieceDepth<Real>& Depth;
+  Real L, El;
+
+  void operator()(
+    Real, Real end, Real, Real, Real, SubintervalDepth<Real>& s, RayStatistics<Real>&) const
+  {
+    s.Eh = end == this->L ? this->El : std::exp(-this->Depth(end));
+    s.Degree = this->Depth.Degree;
+    s.Ready = false;
+  }
+  void Shift(Real v, SubintervalDepth<Real>& s) const
+  {
+    std::copy(this->Depth.D, this->Depth.D + this->Depth.Degree + 1, s.Theta);
+    ShiftPolynomial(s.Theta, this->Depth.Degree, v);
+    s.Ready = true;
+  }
+};
+
+// int_0^l E kappa T over a piece of length l, Ta the transmittance in front:
+// the emission E by Taylor models of degree N, `emission(c, r, models)` over
+// the sub-interval of centre c and radius r, the depth by `depth` (a policy
+// as ExactDepth: `depth(v, end, c, r, Ev, s, stats)` fills s, `Shift(v, s)`
+// its Theta where not Ready). Sub-intervals end at the kinks' `cuts`. Adds
+// the contributions to `color`, leaves the piece's e^{-Theta} over its
+// sub-intervals in E, adds what sub-intervals exceed their shares by
+// (`budget`) to `overdraft`. `length` holds the sub-interval length
+// predicted by the piece before (infinite on a ray's first): the piece
+// starts there, and leaves its own prediction. False when the piece is
+// refused (MaximumSubintervals).
+//
+// Per sub-interval (see above and PiecewiseGradientOpacity.h), with
+// T0 = Ta Ev, T1 = Ta Eh, g = e^D - 1: channel k errs by at most
+//   R_k spent + max|P_k| T0 h (R + Magnitude (1 + g) g) + 2 T1 g
+// (spent = T0 (1 - e^{-Theta(h) - D}), at least the true dT), which must
+// fit half its share, the P' term the other half.
+template <int N, typename Real, typename Depth, typename Emission>
+bool SubintervalPiece(Real l, Real Ta, const Depth& depth, const Emission& emission,
+  const KinkCuts<Real>& cuts, const ShadedBudget<Real>& budget, glm::vec<3, Real>& color, Real& E,
+  Real& overdraft, Real& length, RayStatistics<Real>& stats)
+{
+  using Model = TaylorModel<Real, N>;
   const Real eps = std::numeric_limits<Real>::epsilon();
-  bool zero = true; // no normal anywhere on the piece
-  for (int a = 0; a < 3; ++a)
-  {
-    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
-  }
   const Real floor = l * Real(ShadedFloor);
-  KinkCuts<Real> cuts;
-  if (!zero)
-  {
-    cuts.Find(G, l, *shading.Model, shading.ToViewer, N);
-  }
   Real v = Real(0), h = std::max(std::min(l, length), floor), Ev = Real(1);
+  SubintervalDepth<Real> s;
   for (long count = 0, next = 0; v < l && Ev > Real(0); ++count)
   {
     if (count == MaximumSubintervals)
@@ -320,43 +370,51 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     const Real tried = std::min(h, stop - v);
     const Real end = stop - v <= tried ? stop : v + tried;
     const Real width = end - v;
-    const Real Eh = end == l ? El : std::exp(-depth(end));
-    const Real dT = Ta * (Ev - Eh);
-    const Real share = budget.Scale * (dT + width * budget.InverseL);
     const bool atFloor = tried <= floor; // not width: v + h - v may round above it
-
     // The centre and a radius that reaches both ends despite rounding.
     const Real c = v + width / Real(2);
     const Real r =
       std::max(c - v, end - c) * (Real(1) + Real(4) * eps) + std::numeric_limits<Real>::min();
-    TaylorModel<Real, N> lit[3];
-    const bool dim = dT <= share;
+
+    depth(v, end, c, r, Ev, s, stats);
+    const Real Eh = s.Eh;
+    const Real growth = std::expm1(s.D);
+    const Real T0 = Ta * Ev, T1 = Ta * Eh;
+    const Real dT = std::max(Ta * (Ev - Eh), Real(0));
+    const Real spent = dT - T1 * std::expm1(-s.D);
+    const Real share = budget.Scale * (dT + width * budget.InverseL);
+    const Real attenuation = T0 * width * (s.R + s.Magnitude * (Real(1) + growth) * growth);
+    const Real transmitted = Real(2) * T1 * growth;
+
+    Model models[3];
+    const bool dim = spent <= share;
     if (dim)
     {
-      // So little light is spent here that L's bounds [0, 1] suffice: the
-      // constant 1/2, within 1/2, errs by dT / 2, half the share at most.
-      for (TaylorModel<Real, N>& model : lit)
+      // So little light is spent here that E's bounds [0, 1] suffice: the
+      // constant 1/2, within 1/2, errs by spent / 2, half the share at most.
+      for (Model& model : models)
       {
-        model = TaylorModel<Real, N>(Real(0.5));
+        model = Model(Real(0.5));
         model.R = Real(0.5);
+        model.Radius = r;
       }
     }
     else
     {
-      LitModels<N>(q, p, G, zero, start, shading, c, r, lit);
+      emission(c, r, models);
       ++stats.Samples;
     }
 
-    // |L - P| <= R on the sub-interval, so P's integral against tau T errs
-    // by at most R dT; the ratio of the worst channel's to its half share
-    // predicts the next length (below).
+    // The worst channel's error against its half share predicts the next
+    // length (below).
     Real ratio = Real(0), excess = Real(0);
-    bool known = true;
+    bool known = std::isfinite(growth) && std::isfinite(attenuation);
     for (int k = 0; k < 3; ++k)
     {
-      known = known && std::isfinite(lit[k].R);
-      ratio = std::max(ratio, lit[k].R * dT / (share / Real(2)));
-      excess = std::max(excess, lit[k].R * dT - share / Real(2));
+      const Real error = models[k].R * spent + models[k].Magnitude() * attenuation + transmitted;
+      known = known && std::isfinite(error);
+      ratio = std::max(ratio, error / (share / Real(2)));
+      excess = std::max(excess, error - share / Real(2));
     }
     // An excess below 2^-20 of what is left of the reserve is taken from it
     // (counted), however long the sub-interval: each takes at most 2^-20 of
@@ -365,17 +423,17 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     // while the share shrinks with dT: no length fits, but R dT is tiny.
     const bool tiny = excess <= (budget.Reserve - overdraft) * Real(0x1p-20);
     bool fits = known && (excess <= Real(0) || tiny);
-    // By parts: P(v) T(v) - P(end) T(end) + T(v) int P' e^{-dtheta}, per
+    // By parts: P(v) T(v) - P(end) T(end) + T(v) int P' e^{-Theta}, per
     // channel; the last term by the monotone midpoint where P' keeps its
-    // sign, or by the series.
+    // sign and e^{-Theta} decreases, or by the series.
     Real Pv[3], Pe[3], terms[3] = { Real(0), Real(0), Real(0) };
     Real g[3][N], limits[3];
     bool series = false;
     for (int k = 0; k < 3 && fits; ++k)
     {
-      const Real(&a)[N + 1] = lit[k].A;
-      Pv[k] = lit[k].Evaluate(v - c);
-      Pe[k] = lit[k].Evaluate(end - c);
+      const Real(&a)[N + 1] = models[k].A;
+      Pv[k] = models[k].Evaluate(v - c);
+      Pe[k] = models[k].Evaluate(end - c);
       limits[k] = share / Real(2);
       // P' over the sub-interval: a[1] within sum_j j |a_j| r^(j-1).
       Real bend = Real(0);
@@ -386,7 +444,8 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
       }
       g[k][0] = a[1];
       const Real dP = Pe[k] - Pv[k];
-      if (std::abs(a[1]) > bend * (Real(1) + Real(16) * eps) && std::abs(dP) * dT <= share)
+      if (s.Decreasing && std::abs(a[1]) > bend * (Real(1) + Real(16) * eps) &&
+        std::abs(dP) * dT <= share)
       {
         terms[k] = Ta * dP * (Ev + Eh) / Real(2);
         std::fill(g[k], g[k] + N, Real(0));
@@ -398,18 +457,18 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     }
     if (fits && series)
     {
-      Real theta[PieceDepth<Real>::MaximumDegree + 1];
-      std::copy(depth.D, depth.D + depth.Degree + 1, theta);
-      ShiftPolynomial(theta, depth.Degree, v);
-      const Real A = Magnitude(theta, depth.Degree, width);
+      if (!s.Ready)
+      {
+        depth.Shift(v, s);
+      }
+      const Real A = Magnitude(s.Theta, s.Degree, width);
       Real sums[3];
-      fits =
-        A <= Real(1) && SubintervalSeries(theta, depth.Degree, g, width, A, Ta * Ev, limits, sums);
+      fits = A <= Real(1) && SubintervalSeries(s.Theta, s.Degree, g, width, A, T0, limits, sums);
       for (int k = 0; k < 3 && fits; ++k)
       {
         if (std::any_of(g[k], g[k] + N, [](Real x) { return x != Real(0); }))
         {
-          terms[k] = Ta * Ev * sums[k];
+          terms[k] = T0 * sums[k];
         }
       }
     }
@@ -422,11 +481,12 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
     if (!fits)
     {
       // At the floor: the constants, the middles of the models' ranges
-      // within [0, 1] (where L lies), their excess over the share counted.
+      // within [0, 1] (where E lies), whose P' term is 0; their excess over
+      // the whole share counted.
       excess = Real(0);
       for (int k = 0; k < 3; ++k)
       {
-        const Bounds<Real> range = lit[k].Range();
+        const Bounds<Real> range = models[k].Range();
         const Real lo =
           std::isnan(range.Lo) ? Real(0) : std::min(std::max(range.Lo, Real(0)), Real(1));
         const Real hi =
@@ -434,7 +494,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
         const Real delta0 = (hi - lo) / Real(2);
         Pv[k] = Pe[k] = lo + delta0;
         terms[k] = Real(0);
-        excess = std::max(excess, delta0 * dT - share);
+        excess = std::max(excess, delta0 * spent + hi * attenuation + transmitted - share);
       }
     }
     overdraft += std::max(excess, Real(0));
@@ -454,8 +514,93 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
       ? std::max(h, tried * std::max(Real(1), NextLengthFactor<N>(ratio, Real(4))))
       : std::max(fits ? h : Real(0), Real(2) * tried);
   }
+  E = Ev;
   length = h;
   return true;
+}
+
+// int_0^l L tau T over a piece (q, transfer-function piece p, depth theta,
+// e^{-theta(l)} = El, transmittance Ta in front, world gradient G, world
+// position `start` at v = 0), added to `color`: SubintervalPiece with the
+// exact depth and the lit colour's models, cut at the kinks of n.l.
+template <int N, typename Real>
+bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
+  const PieceDepth<Real>& depth, Real l, Real El, Real Ta, const Real G[3][3],
+  const glm::vec<3, Real>& start, const RayShading<Real>& shading, const ShadedBudget<Real>& budget,
+  glm::vec<3, Real>& color, Real& overdraft, Real& length, RayStatistics<Real>& stats)
+{
+  bool zero = true; // no normal anywhere on the piece
+  for (int a = 0; a < 3; ++a)
+  {
+    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
+  }
+  KinkCuts<Real> cuts;
+  if (!zero)
+  {
+    cuts.Find(G, l, *shading.Model, shading.ToViewer, N);
+  }
+  auto lit = [&](Real c, Real r, TaylorModel<Real, N> models[3])
+  { LitModels<N>(q, p, G, zero, start, shading, c, r, models); };
+  Real E;
+  return SubintervalPiece<N>(
+    l, Ta, ExactDepth<Real>{ depth, l, El }, lit, cuts, budget, color, E, overdraft, length, stats);
+}
+} // namespace detail
+
+namespace detail
+{
+// The ray of the methods whose pieces take sub-intervals under a
+// ShadedBudget (IntegratePiecewiseShaded, IntegratePiecewiseGradientOpacity,
+// validated, L > 0): the budget split above, the walk, the reserve's check,
+// early termination and the steps. `piece(rp, budget, color, T, overdraft,
+// length, stats, error)` integrates the piece `rp` into `color` and `T`, its
+// models of degree N; false, with `error`, when it refuses the piece.
+template <typename Real, typename VolumeT, typename Piece>
+void SubintervalRay(const VolumeT& volume, const glm::vec<3, Real>& origin,
+  const glm::vec<3, Real>& direction, const Interval<Real>* segments, std::size_t count,
+  const PiecewiseTransferFunction<Real>& tf, Real tolerance, Real L, bool earlyTermination,
+  const Piece& piece, RayResult<Real>& result)
+{
+  RayStatistics<Real>& stats = result.Statistics;
+  const Real reserve = Real(0.05) * tolerance;
+  const Real terminationBound = Real(0.15) * tolerance;
+  const ShadedBudget<Real> budget{ Real(0.275) * tolerance, Real(1) / L, reserve };
+  const bool high = ShadedDegree(tolerance) == 5;
+  glm::vec<3, Real> color(Real(0));
+  Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
+  bool stopped = false;
+  auto visit = [&](const RayPiece<Real>& rp) -> bool
+  {
+    ++stats.Pieces;
+    const bool integrated = high ? piece(std::integral_constant<int, 5>(), rp, budget, color, T,
+                                     overdraft, length, stats, result.Error)
+                                 : piece(std::integral_constant<int, 3>(), rp, budget, color, T,
+                                     overdraft, length, stats, result.Error);
+    if (integrated && overdraft > reserve)
+    {
+      result.Error = "the integrand has kinks closer together than double precision separates "
+                     "(sub-intervals of 2^-40 of a piece exceed the tolerance's reserve)";
+    }
+    if (stats.Steps)
+    {
+      stats.Steps->push_back({ rp.Begin, rp.Length, Real(1) - T });
+    }
+    if (!result.Error.empty() || (earlyTermination && T <= terminationBound))
+    {
+      stats.Terminated = result.Error.empty();
+      stopped = true;
+    }
+    return !stopped;
+  };
+  for (std::size_t j = 0; j < count && !stopped; ++j)
+  {
+    PieceWalk(
+      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, visit);
+  }
+  if (result.Error.empty())
+  {
+    PiecewiseRGBA(color, T, result);
+  }
 }
 } // namespace detail
 
@@ -481,64 +626,31 @@ RayResult<Real> IntegratePiecewiseShaded(const VolumeT& volume, const glm::vec<3
   {
     return result;
   }
-  RayStatistics<Real>& stats = result.Statistics;
-  const Real reserve = Real(0.05) * tolerance;
-  const Real terminationBound = Real(0.15) * tolerance;
-  const detail::ShadedBudget<Real> budget{ Real(0.275) * tolerance, Real(1) / L, reserve };
-  const int degree = detail::ShadedDegree(tolerance);
-  glm::vec<3, Real> color(Real(0));
-  Real T = Real(1), overdraft = Real(0), length = std::numeric_limits<Real>::infinity();
-  bool stopped = false;
-  auto visit = [&](const RayPiece<Real>& rp) -> bool
+  auto piece = [&](auto degree, const RayPiece<Real>& rp, const detail::ShadedBudget<Real>& budget,
+                 glm::vec<3, Real>& color, Real& T, Real& overdraft, Real& length,
+                 RayStatistics<Real>& stats, std::string& error)
   {
     const auto& p = tf[rp.TF];
-    ++stats.Pieces;
     const detail::PieceDepth<Real> depth(rp.Q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
     const Real El = std::exp(-depth(rp.Length));
+    bool integrated = true;
     if (T * (Real(1) - El) > Real(0))
     {
       Real G[3][3];
       detail::PieceGradient(volume, origin, direction, rp, shading.NormalMatrix, G);
       const glm::vec<3, Real> start = shading.WorldOrigin + rp.Begin * shading.WorldDirection;
-      const bool integrated = degree == 3
-        ? detail::ShadedPiece<3>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget, color,
-            overdraft, length, stats)
-        : detail::ShadedPiece<5>(rp.Q, p, depth, rp.Length, El, T, G, start, shading, budget, color,
-            overdraft, length, stats);
+      integrated = detail::ShadedPiece<decltype(degree)::value>(rp.Q, p, depth, rp.Length, El, T, G,
+        start, shading, budget, color, overdraft, length, stats);
       if (!integrated)
       {
-        result.Error = "a piece needs more than 65536 enclosures of the lit colour (its kinks "
-                       "or a nearly vanishing gradient too close together)";
-      }
-      else if (overdraft > reserve)
-      {
-        result.Error = "the lit colour has kinks or vanishing gradients closer together than "
-                       "double precision separates (sub-intervals of 2^-40 of a piece exceed the "
-                       "tolerance's reserve)";
+        error = detail::RefusedSubintervalsError;
       }
     }
     T *= El;
-    if (stats.Steps)
-    {
-      stats.Steps->push_back({ rp.Begin, rp.Length, Real(1) - T });
-    }
-    if (!result.Error.empty() || (earlyTermination && T <= terminationBound))
-    {
-      stats.Terminated = result.Error.empty();
-      stopped = true;
-    }
-    return !stopped;
+    return integrated;
   };
-  for (std::size_t j = 0; j < count && !stopped; ++j)
-  {
-    PieceWalk(
-      volume, origin, direction, segments[j].Begin, segments[j].End, tf, stats.Cells, visit);
-  }
-  if (!result.Error.empty())
-  {
-    return result;
-  }
-  detail::PiecewiseRGBA(color, T, result);
+  detail::SubintervalRay(
+    volume, origin, direction, segments, count, tf, tolerance, L, earlyTermination, piece, result);
   return result;
 }
 
