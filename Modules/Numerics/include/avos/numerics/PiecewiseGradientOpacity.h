@@ -179,18 +179,6 @@ TaylorModel<Real, N> ExtinctionModel(const Cubic<Real>& q,
   return tau * GradientFactor(f, GradientMagnitude(gradient, r));
 }
 
-// Whether all of a piece's gradient coefficients are 0.
-template <typename Real>
-bool ZeroGradient(const Real G[3][3])
-{
-  bool zero = true;
-  for (int a = 0; a < 3; ++a)
-  {
-    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
-  }
-  return zero;
-}
-
 // The range of clamp(G(|g|)) over a whole piece of length l (the models of
 // degree N over it).
 template <int N, typename Real>

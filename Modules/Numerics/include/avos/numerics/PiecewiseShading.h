@@ -114,6 +114,19 @@ void PieceGradient(const VolumeT& volume, const glm::vec<3, Real>& origin,
   }
 }
 
+// Whether all of a piece's gradient coefficients are 0 (the cell's corners
+// are equal: no normal anywhere on the piece).
+template <typename Real>
+bool ZeroGradient(const Real G[3][3])
+{
+  bool zero = true;
+  for (int a = 0; a < 3; ++a)
+  {
+    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
+  }
+  return zero;
+}
+
 // The degree N of the lit colour's Taylor models, by tolerance: a
 // sub-interval's error shrinks as its length to the power N + 1, each
 // enclosure costs about (N + 1)^2. Measured on random shaded rays through the
@@ -529,11 +542,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
   const glm::vec<3, Real>& start, const RayShading<Real>& shading, const ShadedBudget<Real>& budget,
   glm::vec<3, Real>& color, Real& overdraft, Real& length, RayStatistics<Real>& stats)
 {
-  bool zero = true; // no normal anywhere on the piece
-  for (int a = 0; a < 3; ++a)
-  {
-    zero = zero && G[a][0] == Real(0) && G[a][1] == Real(0) && G[a][2] == Real(0);
-  }
+  const bool zero = ZeroGradient(G);
   KinkCuts<Real> cuts;
   if (!zero)
   {
