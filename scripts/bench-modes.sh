@@ -8,7 +8,7 @@
 #   scripts/bench-modes.sh shading [BUILD_DIR]       section 5: shaded and unshaded
 #   scripts/bench-modes.sh gradient [BUILD_DIR]      section 5: gradient opacity G = 0 at
 #     |g| = 0 rising to 1 at 20 scalar units per world unit, unshaded and shaded (VTK's
-#     mappers read G on their own axis: their time is comparable, their error is not)
+#     fixed-point mapper reads G per average voxel spacing: the same axis at spacing 1)
 #   scripts/bench-modes.sh projections [BUILD_DIR]   section 6: additive and average
 #   scripts/bench-modes.sh intensity [BUILD_DIR]     section 4: maximum, minimum, clipped
 # Writes its images and reports into the current folder.
