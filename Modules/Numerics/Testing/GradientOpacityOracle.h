@@ -7,7 +7,8 @@
 // samples of a piece, refined by bisection). The extinction, the piece's tau
 // times GradientOpacity::Factor at each point, is integrated by 8-point
 // Gauss-Legendre on parts of at most 1/8 voxel, and the emission (the
-// transfer function's colour, lit by `model` where given) against it by
+// transfer function's colour, lit by `model` where given, grid = world, the
+// normals through G's normal matrix) against it by
 // adaptive Gauss-Legendre within 1e-10 per voxel: none of the piecewise
 // method's models, series or bounds.
 #ifndef avos_numerics_GradientOpacityOracle_h
