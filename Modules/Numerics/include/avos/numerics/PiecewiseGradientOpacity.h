@@ -224,9 +224,8 @@ bool ExactPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<R
     color += p.ColourSlope * (Ta * dq * (Real(1) + El) / Real(2));
     return true;
   }
-  auto allowed = [&](Real Ev, Real Eh, Real h)
-  { return budget.Scale * (Ta * (Ev - Eh) + h * budget.InverseL) / (cs * Ta); };
-  const Real J = SeriesIntegral(depth, q, l, El, allowed, stats);
+  const Real J =
+    SubintervalsJ(q, depth, l, El, budget.Scale / (cs * Ta), Ta, budget.InverseL, stats);
   color += p.ColourSlope * (Ta * J);
   return !std::isnan(J);
 }
@@ -291,10 +290,16 @@ bool GradientOpacityPiece(const VolumeT& volume, const glm::vec<3, Real>& origin
   Real Gw[3][3];
   PieceGradient(volume, origin, direction, rp, opacity.NormalMatrix, Gw);
   const bool zero = ZeroGradient(Gw);
+  // The shading's gradient: the same unless its normal matrix differs (the
+  // classes give both the inverse transpose of one grid-to-world map).
   Real Gs[3][3];
-  if (shading)
+  if (shading && shading->NormalMatrix != opacity.NormalMatrix)
   {
     PieceGradient(volume, origin, direction, rp, shading->NormalMatrix, Gs);
+  }
+  else if (shading)
+  {
+    std::copy(&Gw[0][0], &Gw[0][0] + 9, &Gs[0][0]);
   }
   const glm::vec<3, Real> start =
     shading ? shading->WorldOrigin + rp.Begin * shading->WorldDirection : glm::vec<3, Real>(0);

@@ -565,18 +565,26 @@ constexpr const char* RefusedPieceError =
   "a piece needs more than 65536 sub-intervals (data values too large for double precision "
   "against the transfer function's knots)";
 
-// J on the piece [0, l] (q, in transfer-function piece p, e^{-theta(l)} = E)
-// that its first sub-interval did not settle: SeriesIntegral's
-// sub-intervals, [v, v + h] allowed scale (front (Ev - Eh) + h inverseL)
-// (see above); NaN when refused.
+// J on the piece [0, l] (q, depth theta, e^{-theta(l)} = E) that its first
+// sub-interval did not settle: SeriesIntegral's sub-intervals, [v, v + h]
+// allowed scale (front (Ev - Eh) + h inverseL) (see above); NaN when
+// refused.
+template <typename Real>
+Real SubintervalsJ(const Cubic<Real>& q, const PieceDepth<Real>& depth, Real l, Real E, Real scale,
+  Real front, Real inverseL, RayStatistics<Real>& stats)
+{
+  auto allowed = [&](Real Ev, Real Eh, Real h)
+  { return scale * (front * (Ev - Eh) + h * inverseL); };
+  return SeriesIntegral(depth, q, l, E, allowed, stats);
+}
+
+// The same in transfer-function piece p (its depth).
 template <typename Real>
 Real SubintervalsJ(const Cubic<Real>& q, const typename PiecewiseTransferFunction<Real>::Piece& p,
   Real l, Real E, Real scale, Real front, Real inverseL, RayStatistics<Real>& stats)
 {
-  auto allowed = [&](Real Ev, Real Eh, Real h)
-  { return scale * (front * (Ev - Eh) + h * inverseL); };
-  const PieceDepth<Real> depth(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic);
-  return SeriesIntegral(depth, q, l, E, allowed, stats);
+  return SubintervalsJ(q, PieceDepth<Real>(q, p.Tau, p.TauSlope, p.TauCurvature, p.TauCubic), l, E,
+    scale, front, inverseL, stats);
 }
 
 // A ray's RGBA from its colour and transmittance T: each channel inside [0,

@@ -554,10 +554,7 @@ bool ShadedPiece(const Cubic<Real>& q, const typename PiecewiseTransferFunction<
   return SubintervalPiece<N>(
     l, Ta, ExactDepth<Real>{ depth, l, El }, lit, cuts, budget, color, E, overdraft, length, stats);
 }
-} // namespace detail
 
-namespace detail
-{
 // The ray of the methods whose pieces take sub-intervals under a
 // ShadedBudget (IntegratePiecewiseShaded, IntegratePiecewiseGradientOpacity,
 // validated, L > 0): the budget split above, the walk, the reserve's check,
