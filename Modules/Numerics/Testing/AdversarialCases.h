@@ -4,8 +4,8 @@
 // them, and the tally of each method's error against the exact piecewise
 // reference, unshaded or lit (SharpLighting), with or without a gradient
 // opacity whose knots the case's gradients cross (CrossedGradientOpacity).
-// Shared by the numerical core's
-// tests (few rays) and avos-bench-accuracy (100,000 rays per case).
+// Shared by the numerical core's tests (few rays) and avos-bench-accuracy
+// (100,000 rays per case).
 #ifndef avos_numerics_AdversarialCases_h
 #define avos_numerics_AdversarialCases_h
 
