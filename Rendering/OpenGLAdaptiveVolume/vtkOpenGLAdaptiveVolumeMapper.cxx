@@ -142,9 +142,12 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
       " are not supported (unsigned char, unsigned short, float, double): convert them with "
       "vtkImageCast";
   }
-  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
+    this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND)
   {
-    return "only the composite blend mode is supported";
+    return "only the composite blend mode and the maximum and minimum intensity projections are "
+           "supported";
   }
   if (this->Cropping)
   {
@@ -210,7 +213,13 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetMethodUniforms(uniforms);
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
+  // Our shader blends (avos_blend): the superclass builds its composite
+  // shader, whose ray loop ours replaces, whatever the blend mode (its
+  // projections would overwrite our colour after the loop).
+  const int blendMode = this->BlendMode;
+  this->BlendMode = vtkVolumeMapper::COMPOSITE_BLEND;
   this->Superclass::GPURender(ren, vol);
+  this->BlendMode = blendMode;
   this->Internals->Blocks->Deactivate();
 }
 
@@ -376,6 +385,10 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
 void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
 {
   uniforms->SetUniformi("avos_method", this->IntegrationMethod);
+  uniforms->SetUniformi("avos_blend",
+    this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
+      ? 1
+      : (this->BlendMode == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND ? 2 : 0));
   uniforms->SetUniformf("avos_tolerance", float(this->Tolerance));
   const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
     float(this->MaximumStep), float(this->RiemannStep) };

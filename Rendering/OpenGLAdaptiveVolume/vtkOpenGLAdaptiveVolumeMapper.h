@@ -23,9 +23,17 @@
  * control, error estimates and early termination. Its tests bound the
  * difference to the CPU core in double on the same rays.
  *
+ * Blend modes: composite (the integral), and the maximum and minimum
+ * intensity projections, exact as vtkAdaptiveVolumeMapper's: the extremum of
+ * the trilinear field along the ray (a cubic in each cell, at a cell face
+ * or a root of its derivative, in double where the context has fp64),
+ * shown as the colour there times the opacity function's value there
+ * (clamped to [0, 1]), that value as alpha. VTK's GPU mapper takes the
+ * extremum of samples and misses peaks between them.
+ *
  * Supported: one-component point scalars of type unsigned char, unsigned
- * short, float or double (double is uploaded as float by VTK), the composite
- * blend mode, linear interpolation, 1D transfer functions without shading.
+ * short, float or double (double is uploaded as float by VTK), the blend
+ * modes above, linear interpolation, 1D transfer functions without shading.
  * Refused with an error and nothing drawn (never ignored): other scalar
  * types, cell scalars, several components, other blend modes, cropping,
  * clipping planes, masks, shading, gradient opacity, 2D transfer functions,
@@ -35,7 +43,8 @@
  * Empty space is skipped exactly: blocks of 4^3 cells whose value range
  * the transfer function maps to zero opacity are left out of every ray (a
  * 3D texture of the blocks' visibility, rebuilt when the data or the
- * property changes), as vtkAdaptiveVolumeMapper does.
+ * property changes), as vtkAdaptiveVolumeMapper does. The projections walk
+ * every cell of the ray (a transparent block may hold the extremum).
  *
  * A ray that cannot be integrated (beyond the adaptive loop's bound of
  * attempts, or cut short by the OpenGL implementation: Mesa's llvmpipe ends
@@ -168,7 +177,7 @@ public:
     ALPHA,
     RAY_ENTRY,  // voxel units from the near plane to the box (-1: the ray misses it)
     RAY_LENGTH, // voxel units inside the box, up to the depth buffer
-    SAMPLES     // transfer-function evaluations of the ray
+    SAMPLES     // transfer-function evaluations of the ray (projections: cells examined)
   };
 
   ///@{

@@ -137,25 +137,34 @@ float avos_toExtinction(float value)
   return min(avos_minusLog1m(value), avos_opaqueExtinction) / avos_unitDistance;
 }
 
-void avos_classify(float s, out float tau, out vec3 colour)
+// The opacity function's own value at s (tau or alpha, as the model reads
+// it) and the colour there: TransferFunction's GetOpacityValue and GetColor.
+void avos_lookUp(float s, out float opacity, out vec3 colour)
 {
   if (isnan(s))
   {
-    tau = 0.0;
+    opacity = 0.0;
     colour = vec3(0.0);
     return;
   }
   int i = avos_locate(s);
   if (i < 0)
   {
-    tau = avos_toExtinction(avos_below.w);
+    opacity = avos_below.w;
     colour = avos_below.rgb;
     return;
   }
   vec4 a = avos_pieceA[i];
   float d = clamp(s - a.x, 0.0, a.y);
-  tau = avos_toExtinction(a.z + a.w * d);
+  opacity = a.z + a.w * d;
   colour = avos_pieceC[i].rgb + avos_pieceS[i].rgb * d;
+}
+
+void avos_classify(float s, out float tau, out vec3 colour)
+{
+  float opacity;
+  avos_lookUp(s, opacity, colour);
+  tau = avos_toExtinction(opacity);
 }
 
 float avos_jumpsBefore(int k)
@@ -654,6 +663,159 @@ vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
   return vec4(clamp(colour, vec3(0.0), vec3(alpha)), alpha);
 }
 
+// -------------------------------------- maximum and minimum intensity
+// The exact extremum of the trilinear field along [0, D]
+// (numerics::ExtremumAlongRay): Amanatides and Woo's walk over the cells
+// (numerics::CellWalker, at most nx + ny + nz + 3 steps); in each, the field
+// along the ray is a cubic s(u) (numerics::CellCubic, in avos_real), whose
+// extremum over the cell's part of the ray lies at an end or at a root of
+// s'. A cell whose corners cannot beat the best value so far is passed over
+// without its cubic, one with a non-finite corner too (undefined there).
+// Every cell is walked: the blocks' visibility is the composite integral's,
+// not the projections'. `side` 1 for the maximum, -1 for the minimum; false
+// when no finite cell lies on the ray.
+bool avos_extremum(avos_real D, float side, out avos_real value)
+{
+  ivec3 cells = ivec3(avos_dimensions) - ivec3(1);
+  ivec3 index;
+  ivec3 stride;
+  avos_real3 tMax;
+  avos_real3 tDelta;
+  for (int a = 0; a < 3; ++a)
+  {
+    avos_real x = clamp(avos_rayOrigin[a], avos_real(0.0), avos_real(cells[a]));
+    index[a] = min(int(x), cells[a] - 1);
+    avos_real d = avos_rayDirection[a];
+    stride[a] = d > avos_real(0.0) ? 1 : (d < avos_real(0.0) ? -1 : 0);
+    tMax[a] = stride[a] > 0 ? (avos_real(index[a] + 1) - avos_rayOrigin[a]) / d
+      : (stride[a] < 0 ? (avos_real(index[a]) - avos_rayOrigin[a]) / d : avos_real(3.0e38));
+    tDelta[a] = stride[a] != 0 ? avos_real(1.0) / abs(d) : avos_real(3.0e38);
+  }
+  avos_real best = avos_real(-3.0e38);
+  bool found = false;
+  avos_real t = avos_real(0.0);
+  int left = cells.x + cells.y + cells.z + 3;
+  while (left > 0 && t < D)
+  {
+    --left;
+    int axis = tMax.x <= tMax.y ? (tMax.x <= tMax.z ? 0 : 2) : (tMax.y <= tMax.z ? 1 : 2);
+    avos_real end = min(tMax[axis], D);
+    if (end > t)
+    {
+      float c[8];
+      for (int k = 0; k < 8; ++k)
+      {
+        c[k] = avos_texel(index + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+      }
+      float top = side * c[0];
+      float bottom = top;
+      for (int k = 1; k < 8; ++k)
+      {
+        top = max(top, side * c[k]);
+        bottom = min(bottom, side * c[k]);
+      }
+      float sum = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7];
+      if (!isnan(sum) && !isinf(sum) && avos_real(top) > best)
+      {
+        ++avos_samples;
+        found = true;
+        // The cell's trilinear form A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz
+        // and its cubic along the ray from the entry e (TrilinearForm).
+        avos_real A = avos_real(c[0]);
+        avos_real B = avos_real(c[1]) - A;
+        avos_real C = avos_real(c[2]) - A;
+        avos_real Dz = avos_real(c[4]) - A;
+        avos_real E = avos_real(c[3]) - avos_real(c[2]) - B;
+        avos_real F = avos_real(c[5]) - avos_real(c[4]) - B;
+        avos_real G = avos_real(c[6]) - avos_real(c[4]) - C;
+        avos_real H = avos_real(c[7]) - avos_real(c[6]) - avos_real(c[5]) - avos_real(c[3]) +
+          avos_real(c[4]) + avos_real(c[2]) + avos_real(c[1]) - A;
+        avos_real3 e = avos_rayOrigin + t * avos_rayDirection - avos_real3(index);
+        avos_real3 d = avos_rayDirection;
+        avos_real3 g = avos_real3(B + E * e.y + F * e.z + H * e.y * e.z,
+          C + E * e.x + G * e.z + H * e.x * e.z, Dz + F * e.x + G * e.y + H * e.x * e.y);
+        avos_real k0 = A + B * e.x + C * e.y + Dz * e.z + E * e.x * e.y + F * e.x * e.z +
+          G * e.y * e.z + H * e.x * e.y * e.z;
+        avos_real k1 = dot(d, g);
+        avos_real k2 = d.x * d.y * (E + H * e.z) + d.x * d.z * (F + H * e.y) +
+          d.y * d.z * (G + H * e.x);
+        avos_real k3 = H * d.x * d.y * d.z;
+        avos_real extent = end - t;
+        // The ends, then the roots of s'(u) = 3 k3 u^2 + 2 k2 u + k1 in
+        // (0, extent) (numerics::detail::QuadraticRoots), each value clamped
+        // to the corners' range (the cubic's rounding strays beyond it).
+        avos_real u[4];
+        u[0] = avos_real(0.0);
+        u[1] = extent;
+        int n = 2;
+        avos_real qa = avos_real(3.0) * k3;
+        avos_real qb = avos_real(2.0) * k2;
+        avos_real scale = max(max(abs(qa) * extent * extent, abs(qb) * extent), abs(k1));
+        if (scale > avos_real(0.0))
+        {
+          if (abs(qa) * extent * extent <= avos_real(1e-12) * scale)
+          {
+            if (qb != avos_real(0.0))
+            {
+              u[n++] = -k1 / qb;
+            }
+          }
+          else
+          {
+            avos_real disc = qb * qb - avos_real(4.0) * qa * k1;
+            if (disc >= avos_real(0.0))
+            {
+              avos_real q = avos_real(-0.5) * (qb + (qb < avos_real(0.0) ? -sqrt(disc) : sqrt(disc)));
+              if (q != avos_real(0.0))
+              {
+                u[n++] = q / qa;
+                u[n++] = k1 / q;
+              }
+            }
+          }
+        }
+        for (int i = 0; i < n; ++i)
+        {
+          if (u[i] >= avos_real(0.0) && u[i] <= extent)
+          {
+            avos_real v = k0 + u[i] * (k1 + u[i] * (k2 + u[i] * k3));
+            best = max(best, clamp(avos_real(side) * v, avos_real(bottom), avos_real(top)));
+          }
+        }
+      }
+    }
+    t = max(t, end);
+    index[axis] += stride[axis];
+    if (index[axis] < 0 || index[axis] >= cells[axis])
+    {
+      left = 0;
+    }
+    else
+    {
+      tMax[axis] += tDelta[axis];
+    }
+  }
+  value = avos_real(side) * best;
+  return found;
+}
+
+// The projection as VTK shows it (and vtkAdaptiveVolumeMapper): the colour at
+// the extremum times the opacity function's value there clamped to [0, 1],
+// that value as alpha; nothing where no finite cell lies on the ray.
+vec4 avos_projection(avos_real D, bool maximum)
+{
+  avos_real value;
+  if (!avos_extremum(D, maximum ? 1.0 : -1.0, value))
+  {
+    return vec4(0.0);
+  }
+  float opacity;
+  vec3 colour;
+  avos_lookUp(float(value), opacity, colour);
+  float alpha = clamp(opacity, 0.0, 1.0);
+  return vec4(colour * alpha, alpha);
+}
+
 // ----------------------------------------------------------- the pixel's ray
 float avos_rayEntry;  // voxel units from the near plane (or -1: missed)
 float avos_rayLength; // voxel units inside the box, up to the depth buffer
@@ -751,7 +913,11 @@ void avos_castRay()
   }
   // What the rest of a ray can add to any channel is at most T max(1, max C).
   float budget = 0.2 * avos_tolerance / max(1.0, avos_maximumColour);
-  if (avos_method == 0)
+  if (avos_blend != 0)
+  {
+    avos_result = avos_projection(avos_rayExtent, avos_blend == 1);
+  }
+  else if (avos_method == 0)
   {
     float bound = avos_earlyTermination != 0 ? budget : 0.0;
     avos_result = avos_riemann(avos_rayExtent, avos_steps.w, bound);

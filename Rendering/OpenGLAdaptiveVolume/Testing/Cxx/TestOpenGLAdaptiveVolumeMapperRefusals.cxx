@@ -103,7 +103,7 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
     [&] { mapper->SetMinimumStep(0.1); });
   refused(
-    "the maximum intensity blend", "composite", [&] { mapper->SetBlendModeToMaximumIntensity(); },
+    "the average intensity blend", "composite", [&] { mapper->SetBlendModeToAverageIntensity(); },
     [&] { mapper->SetBlendModeToComposite(); });
   refused(
     "cropping", "cropping", [&] { mapper->CroppingOn(); }, [&] { mapper->CroppingOff(); });
