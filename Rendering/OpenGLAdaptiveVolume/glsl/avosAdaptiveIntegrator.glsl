@@ -663,136 +663,227 @@ vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
   return vec4(clamp(colour, vec3(0.0), vec3(alpha)), alpha);
 }
 
-// -------------------------------------- maximum and minimum intensity
-// The exact extremum of the trilinear field along [0, D]
-// (numerics::ExtremumAlongRay): Amanatides and Woo's walk over the cells
-// (numerics::CellWalker, at most nx + ny + nz + 3 steps); in each, the field
-// along the ray is a cubic s(u) (numerics::CellCubic, in avos_real), whose
-// extremum over the cell's part of the ray lies at an end or at a root of
-// s'. A cell whose corners cannot beat the best value so far is passed over
-// without its cubic, one with a non-finite corner too (undefined there).
-// Every cell is walked: the blocks' visibility is the composite integral's,
-// not the projections'. `side` 1 for the maximum, -1 for the minimum; false
-// when no finite cell lies on the ray.
-bool avos_extremum(avos_real D, float side, out avos_real value)
+// ------------------------------------------------------------- the cells
+// Amanatides and Woo's walk over the cells the ray crosses on [tBegin,
+// tEnd] (numerics::CellWalker, step for step): avos_nextCell gives the next
+// cell with a part [t0, t1] (t1 > t0) of the ray inside it, false once none
+// is left; at most nx + ny + nz + 3 steps.
+struct avos_CellWalk
 {
-  ivec3 cells = ivec3(avos_dimensions) - ivec3(1);
-  ivec3 index;
-  ivec3 stride;
-  avos_real3 tMax;
-  avos_real3 tDelta;
+  ivec3 Cells; // per axis
+  ivec3 Index;
+  ivec3 Stride;
+  avos_real3 TMax;
+  avos_real3 TDelta;
+  avos_real T;
+  avos_real TEnd;
+  int Left;
+};
+
+avos_CellWalk avos_startCells(avos_real tBegin, avos_real tEnd)
+{
+  avos_CellWalk w;
+  w.Cells = ivec3(avos_dimensions) - ivec3(1);
+  avos_real3 p = avos_rayOrigin + tBegin * avos_rayDirection;
   for (int a = 0; a < 3; ++a)
   {
-    avos_real x = clamp(avos_rayOrigin[a], avos_real(0.0), avos_real(cells[a]));
-    index[a] = min(int(x), cells[a] - 1);
+    avos_real x = clamp(p[a], avos_real(0.0), avos_real(w.Cells[a]));
+    w.Index[a] = min(int(x), w.Cells[a] - 1);
     avos_real d = avos_rayDirection[a];
-    stride[a] = d > avos_real(0.0) ? 1 : (d < avos_real(0.0) ? -1 : 0);
-    tMax[a] = stride[a] > 0 ? (avos_real(index[a] + 1) - avos_rayOrigin[a]) / d
-      : (stride[a] < 0 ? (avos_real(index[a]) - avos_rayOrigin[a]) / d : avos_real(3.0e38));
-    tDelta[a] = stride[a] != 0 ? avos_real(1.0) / abs(d) : avos_real(3.0e38);
+    w.Stride[a] = d > avos_real(0.0) ? 1 : (d < avos_real(0.0) ? -1 : 0);
+    w.TMax[a] = w.Stride[a] > 0 ? (avos_real(w.Index[a] + 1) - avos_rayOrigin[a]) / d
+      : (w.Stride[a] < 0 ? (avos_real(w.Index[a]) - avos_rayOrigin[a]) / d : avos_real(3.0e38));
+    w.TDelta[a] = w.Stride[a] != 0 ? avos_real(1.0) / abs(d) : avos_real(3.0e38);
   }
-  avos_real best = avos_real(-3.0e38);
-  bool found = false;
-  avos_real t = avos_real(0.0);
-  int left = cells.x + cells.y + cells.z + 3;
-  while (left > 0 && t < D)
+  w.T = tBegin;
+  w.TEnd = tEnd;
+  w.Left = tBegin < tEnd ? w.Cells.x + w.Cells.y + w.Cells.z + 3 : 0;
+  return w;
+}
+
+bool avos_nextCell(inout avos_CellWalk w, out ivec3 cell, out avos_real t0, out avos_real t1)
+{
+  cell = w.Index;
+  t0 = w.T;
+  t1 = w.T;
+  while (w.Left > 0 && w.T < w.TEnd)
   {
-    --left;
-    int axis = tMax.x <= tMax.y ? (tMax.x <= tMax.z ? 0 : 2) : (tMax.y <= tMax.z ? 1 : 2);
-    avos_real end = min(tMax[axis], D);
-    if (end > t)
+    --w.Left;
+    int axis =
+      w.TMax.x <= w.TMax.y ? (w.TMax.x <= w.TMax.z ? 0 : 2) : (w.TMax.y <= w.TMax.z ? 1 : 2);
+    avos_real end = min(w.TMax[axis], w.TEnd);
+    bool inside = end > w.T;
+    cell = w.Index;
+    t0 = w.T;
+    t1 = end;
+    w.T = max(w.T, end);
+    w.Index[axis] += w.Stride[axis];
+    if (w.Index[axis] < 0 || w.Index[axis] >= w.Cells[axis])
     {
-      float c[8];
-      for (int k = 0; k < 8; ++k)
-      {
-        c[k] = avos_texel(index + ivec3(k & 1, (k >> 1) & 1, k >> 2));
-      }
-      float top = side * c[0];
-      float bottom = top;
-      for (int k = 1; k < 8; ++k)
-      {
-        top = max(top, side * c[k]);
-        bottom = min(bottom, side * c[k]);
-      }
-      float sum = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7];
-      if (!isnan(sum) && !isinf(sum) && avos_real(top) > best)
-      {
-        ++avos_samples;
-        found = true;
-        // The cell's trilinear form A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz
-        // and its cubic along the ray from the entry e (TrilinearForm).
-        avos_real A = avos_real(c[0]);
-        avos_real B = avos_real(c[1]) - A;
-        avos_real C = avos_real(c[2]) - A;
-        avos_real Dz = avos_real(c[4]) - A;
-        avos_real E = avos_real(c[3]) - avos_real(c[2]) - B;
-        avos_real F = avos_real(c[5]) - avos_real(c[4]) - B;
-        avos_real G = avos_real(c[6]) - avos_real(c[4]) - C;
-        avos_real H = avos_real(c[7]) - avos_real(c[6]) - avos_real(c[5]) - avos_real(c[3]) +
-          avos_real(c[4]) + avos_real(c[2]) + avos_real(c[1]) - A;
-        avos_real3 e = avos_rayOrigin + t * avos_rayDirection - avos_real3(index);
-        avos_real3 d = avos_rayDirection;
-        avos_real3 g = avos_real3(B + E * e.y + F * e.z + H * e.y * e.z,
-          C + E * e.x + G * e.z + H * e.x * e.z, Dz + F * e.x + G * e.y + H * e.x * e.y);
-        avos_real k0 = A + B * e.x + C * e.y + Dz * e.z + E * e.x * e.y + F * e.x * e.z +
-          G * e.y * e.z + H * e.x * e.y * e.z;
-        avos_real k1 = dot(d, g);
-        avos_real k2 = d.x * d.y * (E + H * e.z) + d.x * d.z * (F + H * e.y) +
-          d.y * d.z * (G + H * e.x);
-        avos_real k3 = H * d.x * d.y * d.z;
-        avos_real extent = end - t;
-        // The ends, then the roots of s'(u) = 3 k3 u^2 + 2 k2 u + k1 in
-        // (0, extent) (numerics::detail::QuadraticRoots), each value clamped
-        // to the corners' range (the cubic's rounding strays beyond it).
-        avos_real u[4];
-        u[0] = avos_real(0.0);
-        u[1] = extent;
-        int n = 2;
-        avos_real qa = avos_real(3.0) * k3;
-        avos_real qb = avos_real(2.0) * k2;
-        avos_real scale = max(max(abs(qa) * extent * extent, abs(qb) * extent), abs(k1));
-        if (scale > avos_real(0.0))
-        {
-          if (abs(qa) * extent * extent <= avos_real(1e-12) * scale)
-          {
-            if (qb != avos_real(0.0))
-            {
-              u[n++] = -k1 / qb;
-            }
-          }
-          else
-          {
-            avos_real disc = qb * qb - avos_real(4.0) * qa * k1;
-            if (disc >= avos_real(0.0))
-            {
-              avos_real q = avos_real(-0.5) * (qb + (qb < avos_real(0.0) ? -sqrt(disc) : sqrt(disc)));
-              if (q != avos_real(0.0))
-              {
-                u[n++] = q / qa;
-                u[n++] = k1 / q;
-              }
-            }
-          }
-        }
-        for (int i = 0; i < n; ++i)
-        {
-          if (u[i] >= avos_real(0.0) && u[i] <= extent)
-          {
-            avos_real v = k0 + u[i] * (k1 + u[i] * (k2 + u[i] * k3));
-            best = max(best, clamp(avos_real(side) * v, avos_real(bottom), avos_real(top)));
-          }
-        }
-      }
-    }
-    t = max(t, end);
-    index[axis] += stride[axis];
-    if (index[axis] < 0 || index[axis] >= cells[axis])
-    {
-      left = 0;
+      w.Left = 0;
     }
     else
     {
-      tMax[axis] += tDelta[axis];
+      w.TMax[axis] += w.TDelta[axis];
+    }
+    if (inside)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// A cell's corners (x fastest), false when one is not finite (the cell is
+// undefined: passed over by every method but the samplers).
+bool avos_corners(ivec3 cell, out float c[8])
+{
+  for (int k = 0; k < 8; ++k)
+  {
+    c[k] = avos_texel(cell + ivec3(k & 1, (k >> 1) & 1, k >> 2));
+  }
+  float sum = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7];
+  return !isnan(sum) && !isinf(sum);
+}
+
+// The cell's field along the ray from t0 (the cell's part starts there): the
+// cubic s(u) = K.x + K.y u + K.z u^2 + K.w u^3 of the trilinear form
+// A + Bx + Cy + Dz + Exy + Fxz + Gyz + Hxyz (numerics::CellCubic).
+struct avos_Cubic
+{
+  avos_real K[4];
+};
+
+avos_Cubic avos_cellCubic(float c[8], ivec3 cell, avos_real t0)
+{
+  avos_real A = avos_real(c[0]);
+  avos_real B = avos_real(c[1]) - A;
+  avos_real C = avos_real(c[2]) - A;
+  avos_real Dz = avos_real(c[4]) - A;
+  avos_real E = avos_real(c[3]) - avos_real(c[2]) - B;
+  avos_real F = avos_real(c[5]) - avos_real(c[4]) - B;
+  avos_real G = avos_real(c[6]) - avos_real(c[4]) - C;
+  avos_real H = avos_real(c[7]) - avos_real(c[6]) - avos_real(c[5]) - avos_real(c[3]) +
+    avos_real(c[4]) + avos_real(c[2]) + avos_real(c[1]) - A;
+  avos_real3 e = avos_rayOrigin + t0 * avos_rayDirection - avos_real3(cell);
+  avos_real3 d = avos_rayDirection;
+  avos_real3 g = avos_real3(B + E * e.y + F * e.z + H * e.y * e.z,
+    C + E * e.x + G * e.z + H * e.x * e.z, Dz + F * e.x + G * e.y + H * e.x * e.y);
+  avos_Cubic q;
+  q.K[0] = A + B * e.x + C * e.y + Dz * e.z + E * e.x * e.y + F * e.x * e.z + G * e.y * e.z +
+    H * e.x * e.y * e.z;
+  q.K[1] = dot(d, g);
+  q.K[2] = d.x * d.y * (E + H * e.z) + d.x * d.z * (F + H * e.y) + d.y * d.z * (G + H * e.x);
+  q.K[3] = H * d.x * d.y * d.z;
+  return q;
+}
+
+avos_real avos_at(avos_Cubic q, avos_real u)
+{
+  return q.K[0] + u * (q.K[1] + u * (q.K[2] + u * q.K[3]));
+}
+
+// The roots of s'(u) = 3 K3 u^2 + 2 K2 u + K1 in (0, extent), ascending
+// (numerics::detail::QuadraticRoots); how many.
+int avos_extrema(avos_Cubic q, avos_real extent, out avos_real roots[2])
+{
+  roots[0] = avos_real(0.0);
+  roots[1] = avos_real(0.0);
+  avos_real a = avos_real(3.0) * q.K[3];
+  avos_real b = avos_real(2.0) * q.K[2];
+  avos_real c = q.K[1];
+  avos_real r[2];
+  int n = 0;
+  avos_real scale = max(max(abs(a) * extent * extent, abs(b) * extent), abs(c));
+  if (scale == avos_real(0.0))
+  {
+    return 0;
+  }
+  if (abs(a) * extent * extent <= avos_real(1e-12) * scale)
+  {
+    if (b != avos_real(0.0))
+    {
+      r[n++] = -c / b;
+    }
+  }
+  else
+  {
+    avos_real disc = b * b - avos_real(4.0) * a * c;
+    if (disc >= avos_real(0.0))
+    {
+      avos_real q2 = avos_real(-0.5) * (b + (b < avos_real(0.0) ? -sqrt(disc) : sqrt(disc)));
+      if (q2 != avos_real(0.0))
+      {
+        r[n++] = q2 / a;
+        r[n++] = c / q2;
+      }
+    }
+  }
+  int count = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    if (r[i] > avos_real(0.0) && r[i] < extent)
+    {
+      roots[count++] = r[i];
+    }
+  }
+  if (count == 2 && roots[0] > roots[1])
+  {
+    avos_real swap = roots[0];
+    roots[0] = roots[1];
+    roots[1] = swap;
+  }
+  return count;
+}
+
+// -------------------------------------- maximum and minimum intensity
+// The exact extremum of the trilinear field along [0, D]
+// (numerics::ExtremumAlongRay): in each cell the field along the ray is a
+// cubic, whose extremum over the cell's part of the ray lies at an end or
+// at a root of its derivative. A cell whose corners cannot beat the best
+// value so far is passed over without its cubic, one with a non-finite
+// corner too. Every cell is walked: the blocks' visibility is the composite
+// integral's, not the projections'. `side` 1 for the maximum, -1 for the
+// minimum; false when no finite cell lies on the ray.
+bool avos_extremum(avos_real D, float side, out avos_real value)
+{
+  avos_real best = avos_real(-3.0e38);
+  bool found = false;
+  avos_CellWalk walk = avos_startCells(avos_real(0.0), D);
+  ivec3 cell;
+  avos_real t0;
+  avos_real t1;
+  while (avos_nextCell(walk, cell, t0, t1))
+  {
+    float c[8];
+    if (!avos_corners(cell, c))
+    {
+      continue;
+    }
+    float top = side * c[0];
+    float bottom = top;
+    for (int k = 1; k < 8; ++k)
+    {
+      top = max(top, side * c[k]);
+      bottom = min(bottom, side * c[k]);
+    }
+    if (!(avos_real(top) > best))
+    {
+      continue;
+    }
+    ++avos_samples;
+    found = true;
+    avos_Cubic q = avos_cellCubic(c, cell, t0);
+    avos_real extent = t1 - t0;
+    avos_real roots[2];
+    int n = avos_extrema(q, extent, roots);
+    // The ends and the roots, each value clamped to the corners' range (the
+    // cubic's rounding strays beyond it).
+    avos_real u[4] = avos_real[4](avos_real(0.0), extent, roots[0], roots[1]);
+    for (int i = 0; i < 2 + n; ++i)
+    {
+      best = max(best, clamp(avos_real(side) * avos_at(q, u[i]), avos_real(bottom),
+                         avos_real(top)));
     }
   }
   value = avos_real(side) * best;
