@@ -142,7 +142,7 @@ void DefaultTransferFunction(const double range[2], double voxel, vtkVolumePrope
 
 const std::vector<std::string> MethodSettings::Methods = { "riemann", "coupled", "decoupled",
   "piecewise", "reference", "vtk-fixed-point", "vtk-gpu", "gpu-riemann", "gpu-coupled",
-  "gpu-decoupled" };
+  "gpu-decoupled", "gpu-piecewise" };
 
 std::string MethodSettings::Label() const
 {
@@ -153,7 +153,7 @@ std::string MethodSettings::Label() const
   {
     out << " eps " << this->Tolerance << " (hmin " << this->HMin << ", hmax " << this->HMax << ")";
   }
-  else if (this->Method == "piecewise")
+  else if (this->Method == "piecewise" || this->Method == "gpu-piecewise")
   {
     out << " eps " << this->Tolerance;
   }
@@ -189,7 +189,8 @@ vtkSmartPointer<vtkVolumeMapper> MakeMapper(const MethodSettings& settings, doub
   const std::map<std::string, int> gpuMethods = { { "gpu-riemann",
                                                     vtkOpenGLAdaptiveVolumeMapper::RIEMANN },
     { "gpu-coupled", vtkOpenGLAdaptiveVolumeMapper::ADAPTIVE_COUPLED },
-    { "gpu-decoupled", vtkOpenGLAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED } };
+    { "gpu-decoupled", vtkOpenGLAdaptiveVolumeMapper::ADAPTIVE_DECOUPLED },
+    { "gpu-piecewise", vtkOpenGLAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE } };
   const auto gpuMethod = gpuMethods.find(settings.Method);
   if (gpuMethod != gpuMethods.end())
   {

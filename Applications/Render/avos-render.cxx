@@ -2,7 +2,8 @@
 // side, with VTK's own mappers) to an image and a JSON report.
 //
 //   avos-render INPUT [--tf FILE.tf1d] [--method riemann|coupled|decoupled|piecewise|
-//               reference|vtk-fixed-point|vtk-gpu|gpu-riemann|gpu-coupled|gpu-decoupled]
+//               reference|vtk-fixed-point|vtk-gpu|gpu-riemann|gpu-coupled|gpu-decoupled|
+//               gpu-piecewise]
 //               [--opacity extinction|vtk] [--tolerance E]
 //               [--step H] [--h0 H] [--hmin H] [--hmax H] [--size WxH] [--azimuth DEG]
 //               [--elevation DEG] [--zoom Z] [--frames N] [--threads N]
@@ -58,7 +59,7 @@ constexpr int MaximumThreads = 1024;
 const char* Usage =
   "usage: avos-render INPUT [--tf FILE.tf1d]\n"
   "         [--method riemann|coupled|decoupled|piecewise|reference|vtk-fixed-point|vtk-gpu|\n"
-  "                   gpu-riemann|gpu-coupled|gpu-decoupled]\n"
+  "                   gpu-riemann|gpu-coupled|gpu-decoupled|gpu-piecewise]\n"
   "         [--opacity extinction|vtk] [--tolerance E] [--step H] [--h0 H] [--hmin H]\n"
   "         [--hmax H] [--size WxH] [--azimuth DEG] [--elevation DEG] [--zoom Z]\n"
   "         [--frames N] [--threads N] [--output FILE.png|FILE.exr] [--report FILE.json]\n"
@@ -71,9 +72,10 @@ const char* Usage =
   "transfer function is derived from the data range, in VTK's semantics.\n"
   "--opacity vtk renders the TF converted to VTK's semantics (alpha = 1 - exp(-tau) per\n"
   "voxel unit at the knots), as vtk-fixed-point and vtk-gpu always do.\n"
-  "gpu-riemann|gpu-coupled|gpu-decoupled: vtkOpenGLAdaptiveVolumeMapper, the same methods\n"
-  "in GLSL (float) on the OpenGL device; its image (--output .exr, --compare) holds the\n"
-  "shader's float values, read back one channel per extra render.\n"
+  "gpu-riemann|gpu-coupled|gpu-decoupled|gpu-piecewise: vtkOpenGLAdaptiveVolumeMapper, the\n"
+  "same methods in GLSL on the OpenGL device (the piecewise one in double: it needs\n"
+  "GL_ARB_gpu_shader_fp64); its image (--output .exr, --compare) holds the shader's float\n"
+  "values, read back one channel per extra render.\n"
   "Steps (--step, --h0, --hmin, --hmax) are in voxel units within [0.001, 1000]; --threads 0\n"
   "(the default) uses every core, at most 1024; --frames at most 100000; --size at most\n"
   "16384x16384 (a common OpenGL limit; the float image then takes 4 GiB).\n"

@@ -24,6 +24,8 @@
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
+#include "avos/numerics/PiecewiseIntegrator.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -80,6 +82,13 @@ public:
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
+  // The piecewise method's pieces (PIECEWISE_ADAPTIVE only), rebuilt when
+  // the transfer function or the tolerance changes.
+  avos::numerics::PiecewiseTransferFunction<double> Pieces;
+  vtkTimeStamp PiecesTime;
+  double PiecesTolerance = 0.0;
+  int PiecewiseCount = -1; // the size the avos_pp arrays were declared with
+
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
   // change) and their visibility as a 3D texture (rebuilt when the ranges or
   // the transfer function change).
@@ -108,8 +117,10 @@ const char* vtkOpenGLAdaptiveVolumeMapper::GetIntegrationMethodAsString()
       return "Riemann";
     case ADAPTIVE_COUPLED:
       return "AdaptiveCoupled";
-    default:
+    case ADAPTIVE_DECOUPLED:
       return "AdaptiveDecoupled";
+    default:
+      return "PiecewiseAdaptive";
   }
 }
 
@@ -174,6 +185,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   if (!(this->Tolerance > 0.0 && this->Tolerance <= 1.0))
   {
     return "the tolerance must be in (0, 1]";
+  }
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  {
+    if (!(this->Tolerance >= 1e-5))
+    {
+      return "the GPU's piecewise method takes a tolerance from 1e-5 to 1 (its transfer function "
+             "is held in float)";
+    }
   }
   const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
   const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
@@ -259,15 +278,37 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
       vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
   }
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  if (piecewise && !GLEW_ARB_gpu_shader_fp64)
+  {
+    return "the piecewise method needs double precision in shaders (GL_ARB_gpu_shader_fp64), "
+           "which this OpenGL context lacks: use vtkAdaptiveVolumeMapper";
+  }
+  if (piecewise &&
+    (internals.PiecesTime < internals.TFTime || internals.PiecesTolerance != this->Tolerance))
+  {
+    error = internals.Pieces.Build(
+      internals.TF, avos::numerics::PiecewiseRelativeError(this->Tolerance));
+    if (!error.empty())
+    {
+      return error;
+    }
+    internals.PiecesTime.Modified();
+    internals.PiecesTolerance = this->Tolerance;
+  }
+  // Uniform vectors: 3 per transfer-function piece, 4 per piecewise piece.
   const std::size_t pieces = internals.TF.GetPieces().size();
+  const std::size_t piecewisePieces = piecewise ? internals.Pieces.GetNumberOfPieces() : 1;
   GLint vectors = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
-  const int capacity = std::max(0, (vectors - ReservedUniformVectors) / 3);
-  if (static_cast<int>(pieces) > capacity)
+  const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
+  if (static_cast<GLint>(needed) > vectors - ReservedUniformVectors)
   {
     std::ostringstream message;
-    message << "the transfer function has " << pieces
-            << " pieces; this GPU's fragment uniforms hold at most " << capacity;
+    message << "the transfer function has " << pieces << " pieces"
+            << (piecewise ? " and " + std::to_string(piecewisePieces) + " piecewise ones" : "")
+            << ": " << needed << " uniform vectors, more than this GPU's fragment uniforms hold ("
+            << std::max(0, vectors - ReservedUniformVectors) << ")";
     return message.str();
   }
   // The shader's rays assume what VTK's cameras give: a homogeneous w of the
@@ -377,8 +418,52 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
   uniforms->SetUniform4f("avos_below", belowValues);
   uniforms->SetUniformi(
     "avos_alphaModel", tf.GetOpacityModel() == avos::numerics::OpacityModel::Alpha ? 1 : 0);
+  this->SetPiecewiseUniforms(uniforms);
   uniforms->SetUniformf("avos_unitDistance", float(tf.GetUnitDistance()));
   uniforms->SetUniformf("avos_maximumColour", float(tf.GetMaximumColor()));
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
+{
+  // The piecewise method's pieces (numerics::PiecewiseTransferFunction, see
+  // the shader's avos_pp*), one unused piece for the other methods.
+  vtkInternals& internals = *this->Internals;
+  const auto& pp = internals.Pieces;
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  const int count = piecewise ? static_cast<int>(pp.GetNumberOfPieces()) : 1;
+  if (count != internals.PiecewiseCount)
+  {
+    for (const char* name : { "avos_ppA", "avos_ppB", "avos_ppC", "avos_ppS" })
+    {
+      uniforms->RemoveUniform(name);
+    }
+    internals.PiecewiseCount = count;
+  }
+  std::vector<float> a(4 * count, 0.0f), b(4 * count, 0.0f), c(4 * count, 0.0f),
+    s(4 * count, 0.0f);
+  for (int i = 0; i < count && piecewise; ++i)
+  {
+    const auto& p = pp[static_cast<std::size_t>(i)];
+    a[4 * i] = float(p.Start);
+    a[4 * i + 1] = float(p.Tau);
+    a[4 * i + 2] = float(p.TauSlope);
+    a[4 * i + 3] = float(p.TauCurvature);
+    b[4 * i] = float(p.TauCubic);
+    // The visible pieces among the first i + 1 (exact in float below 2^24).
+    b[4 * i + 1] = float(pp.IsVisible(static_cast<std::size_t>(i))) + (i > 0 ? b[4 * i - 3] : 0.0f);
+    b[4 * i + 2] = float(p.ColourSlopeMaximum);
+    for (int k = 0; k < 3; ++k)
+    {
+      c[4 * i + k] = float(p.Colour[k]);
+      s[4 * i + k] = float(p.ColourSlope[k]);
+    }
+  }
+  uniforms->SetUniform4fv("avos_ppA", count, reinterpret_cast<const float(*)[4]>(a.data()));
+  uniforms->SetUniform4fv("avos_ppB", count, reinterpret_cast<const float(*)[4]>(b.data()));
+  uniforms->SetUniform4fv("avos_ppC", count, reinterpret_cast<const float(*)[4]>(c.data()));
+  uniforms->SetUniform4fv("avos_ppS", count, reinterpret_cast<const float(*)[4]>(s.data()));
+  uniforms->SetUniformi("avos_ppCount", count);
 }
 
 //------------------------------------------------------------------------------

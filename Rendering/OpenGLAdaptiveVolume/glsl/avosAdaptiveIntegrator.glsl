@@ -738,10 +738,14 @@ bool avos_nextCell(inout avos_CellWalk w, out ivec3 cell, out avos_real t0, out 
 // undefined: passed over by every method but the samplers).
 bool avos_corners(ivec3 cell, out float c[8])
 {
-  for (int k = 0; k < 8; ++k)
-  {
-    c[k] = avos_texel(cell + ivec3(k & 1, (k >> 1) & 1, k >> 2));
-  }
+  c[0] = avos_texel(cell);
+  c[1] = avos_texel(cell + ivec3(1, 0, 0));
+  c[2] = avos_texel(cell + ivec3(0, 1, 0));
+  c[3] = avos_texel(cell + ivec3(1, 1, 0));
+  c[4] = avos_texel(cell + ivec3(0, 0, 1));
+  c[5] = avos_texel(cell + ivec3(1, 0, 1));
+  c[6] = avos_texel(cell + ivec3(0, 1, 1));
+  c[7] = avos_texel(cell + ivec3(1, 1, 1));
   float sum = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7];
   return !isnan(sum) && !isinf(sum);
 }
@@ -890,6 +894,525 @@ bool avos_extremum(avos_real D, float side, out avos_real value)
   return found;
 }
 
+// ------------------------------------------------ the piecewise method
+// numerics::IntegratePiecewise (PiecewiseIntegrator.h) where the context has
+// fp64 (the mapper refuses it elsewhere): the ray cut into pieces at cell
+// faces, at the extrema of each cell's cubic (every piece is monotone) and
+// where the cubic crosses a knot of numerics::PiecewiseTransferFunction
+// (avos_pp*, per piece: (Start, tau, tau', tau''), (tau''', the visible
+// pieces among the first i + 1, max |colour slope|, 0), the colour and its
+// slope; tau a cubic in d = s - Start, the colour linear). On a piece, v in
+// [0, l] from its start and d(v) a cubic, the optical depth theta(v) is the
+// integral of a polynomial (degree at most 10), exact; the colour integral
+// is, by parts,
+//   C(0) T(0) - C(l) T(l) + c1 T(0) J,  J = int_0^l d'(v) e^{-theta(v)} dv.
+// d is monotone and e^{-theta} decreases, so J lies between dq e^{-theta(l)}
+// and dq (second mean value theorem): where the midpoint of those bounds,
+// times max |c1| T(0), fits the core's share 0.6 eps (T(0) (1 - E_l) +
+// l / L) / 2 (L the ray's visible length: the shares add up to 0.6 eps) it
+// is J; elsewhere J is the sum of the power series of e^{-theta} on
+// sub-intervals, each truncated where a dominating series proves the rest
+// within the sub-interval's share (avos_seriesJ, the CPU's SeriesIntegrals
+// with at most 16 terms instead of 40: a sub-interval that needs more is
+// halved). 0.15 eps goes to early termination and, in VTK's alpha model,
+// 0.25 eps to the extinction's relative error eps / 8 (the pieces'
+// construction), as on the CPU. llvmpipe counts every iteration of every
+// loop it keeps against one limit per group of fragments (avos_castRay), so
+// the loops of fixed length (the series' terms, the polynomials'
+// coefficients, the knot search) are written out: only the walk, the
+// pieces, the knot crossings and the sub-intervals count (at most a few
+// hundred per ray on the tests' scenes).
+
+// e^x for x <= 0 in double (GLSL's exp has no double overload):
+// x = k ln 2 + r, |r| <= ln 2 / 2 (ln 2 in two parts, the first exact in
+// k ln 2 for |k| < 2^11), e^r by its Taylor polynomial of degree 13
+// (remainder below 2e-17), times 2^k.
+avos_real avos_exp(avos_real x)
+{
+  if (x < avos_real(-708.0))
+  {
+    return avos_real(0.0);
+  }
+  avos_real k = floor(x * avos_real(1.4426950408889634) + avos_real(0.5));
+  avos_real r = (x - k * avos_real(0.693145751953125)) - k * avos_real(1.4286068203094173e-06);
+  // Written out: llvmpipe counts every iteration of a loop it keeps.
+  avos_real e = avos_real(1.0) + r / avos_real(13.0);
+  e = avos_real(1.0) + e * r / avos_real(12.0);
+  e = avos_real(1.0) + e * r / avos_real(11.0);
+  e = avos_real(1.0) + e * r / avos_real(10.0);
+  e = avos_real(1.0) + e * r / avos_real(9.0);
+  e = avos_real(1.0) + e * r / avos_real(8.0);
+  e = avos_real(1.0) + e * r / avos_real(7.0);
+  e = avos_real(1.0) + e * r / avos_real(6.0);
+  e = avos_real(1.0) + e * r / avos_real(5.0);
+  e = avos_real(1.0) + e * r / avos_real(4.0);
+  e = avos_real(1.0) + e * r / avos_real(3.0);
+  e = avos_real(1.0) + e * r / avos_real(2.0);
+  e = avos_real(1.0) + e * r;
+  return ldexp(e, int(k));
+}
+
+// The piece holding s: pieces i >= 1 start at the knots (right-continuous
+// at a jump), piece 0 holds what lies below (PiecewiseTransferFunction's
+// Locate). A binary search of a fixed 12 steps (up to 4096 pieces, which
+// the uniforms never hold), written out as the other fixed loops of this
+// method: llvmpipe counts every iteration of a loop it keeps against its
+// limit (see avos_castRay).
+#define AVOS_LOCATE_STEP(k)                                                                        \
+  next = lo + k;                                                                                   \
+  lo = next < avos_ppCount && avos_real(avos_ppA[min(next, avos_ppCount - 1)].x) <= s ? next : lo;
+int avos_ppLocate(avos_real s)
+{
+  int lo = 0;
+  int next;
+  AVOS_LOCATE_STEP(2048)
+  AVOS_LOCATE_STEP(1024)
+  AVOS_LOCATE_STEP(512)
+  AVOS_LOCATE_STEP(256)
+  AVOS_LOCATE_STEP(128)
+  AVOS_LOCATE_STEP(64)
+  AVOS_LOCATE_STEP(32)
+  AVOS_LOCATE_STEP(16)
+  AVOS_LOCATE_STEP(8)
+  AVOS_LOCATE_STEP(4)
+  AVOS_LOCATE_STEP(2)
+  AVOS_LOCATE_STEP(1)
+  return lo;
+}
+
+float avos_ppVisibleBefore(int i)
+{
+  return i > 0 ? avos_ppB[i - 1].y : 0.0;
+}
+
+// The root of q(u) = value in [a, b], where q - value changes sign (q
+// monotone there): Newton's steps kept inside the bracket, bisection where
+// one would leave it; at most 64 steps.
+avos_real avos_crossing(avos_Cubic q, avos_real value, avos_real a, avos_real b)
+{
+  avos_real fa = avos_at(q, a) - value;
+  avos_real u = avos_real(0.5) * (a + b);
+  for (int i = 0; i < 64; ++i)
+  {
+    avos_real f = avos_at(q, u) - value;
+    if (f == avos_real(0.0))
+    {
+      return u;
+    }
+    if ((f < avos_real(0.0)) == (fa < avos_real(0.0)))
+    {
+      a = u;
+      fa = f;
+    }
+    else
+    {
+      b = u;
+    }
+    avos_real slope = q.K[1] + u * (avos_real(2.0) * q.K[2] + u * avos_real(3.0) * q.K[3]);
+    avos_real next = slope != avos_real(0.0) ? u - f / slope : a;
+    if (!(next > a && next < b))
+    {
+      next = avos_real(0.5) * (a + b);
+    }
+    if (next == u || b - a <= avos_real(1e-15) * max(abs(a), abs(b)))
+    {
+      return next;
+    }
+    u = next;
+  }
+  return u;
+}
+
+// A ray of the piecewise method.
+struct avos_PiecewiseRay
+{
+  avos_real3 Colour;
+  avos_real T;
+  avos_real InverseL; // 1 / the ray's visible length
+  avos_real Budget;   // 0.6 eps
+  bool Failed;        // a piece beyond its sub-interval bound
+};
+
+// The depth polynomial theta[0..10] at v (theta[0] = 0 before a shift).
+avos_real avos_depth(avos_real theta[11], avos_real v)
+{
+  avos_real p = theta[10];
+  p = p * v + theta[9];
+  p = p * v + theta[8];
+  p = p * v + theta[7];
+  p = p * v + theta[6];
+  p = p * v + theta[5];
+  p = p * v + theta[4];
+  p = p * v + theta[3];
+  p = p * v + theta[2];
+  p = p * v + theta[1];
+  return max(p * v + theta[0], avos_real(0.0));
+}
+
+// p(v0 + w) in powers of w (numerics::detail::ShiftPolynomial) for the
+// depth (degree 10: the coefficients above its degree are 0) and for q'
+// (degree 2).
+void avos_shiftDepth(inout avos_real c[11], avos_real v0)
+{
+  // Row i: c[j] += v0 c[j + 1] for j = 9 down to i, i = 0 .. 9, written out.
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[4] += v0 * c[5]; c[3] += v0 * c[4]; c[2] += v0 * c[3]; c[1] += v0 * c[2]; c[0] += v0 * c[1];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[4] += v0 * c[5]; c[3] += v0 * c[4]; c[2] += v0 * c[3]; c[1] += v0 * c[2];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[4] += v0 * c[5]; c[3] += v0 * c[4]; c[2] += v0 * c[3];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[4] += v0 * c[5]; c[3] += v0 * c[4];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[4] += v0 * c[5];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7]; c[5] += v0 * c[6];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8]; c[6] += v0 * c[7];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9]; c[7] += v0 * c[8];
+  c[9] += v0 * c[10]; c[8] += v0 * c[9];
+  c[9] += v0 * c[10];
+}
+
+void avos_shiftSlope(inout avos_real g[3], avos_real v0)
+{
+  g[0] += v0 * (g[1] + v0 * g[2]);
+  g[1] += avos_real(2.0) * v0 * g[2];
+}
+
+// sum_j |theta_j| h^j (j >= 1): the dominating series' exponent at h.
+avos_real avos_magnitude(avos_real theta[11], avos_real h)
+{
+  avos_real a = abs(theta[10]) * h;
+  a = (a + abs(theta[9])) * h;
+  a = (a + abs(theta[8])) * h;
+  a = (a + abs(theta[7])) * h;
+  a = (a + abs(theta[6])) * h;
+  a = (a + abs(theta[5])) * h;
+  a = (a + abs(theta[4])) * h;
+  a = (a + abs(theta[3])) * h;
+  a = (a + abs(theta[2])) * h;
+  return (a + abs(theta[1])) * h;
+}
+
+// The series' most terms on a sub-interval (the CPU takes up to 40).
+const int avos_terms = 16;
+
+// Term k of avos_series: int_0^h g(w) c_k w^k dw added until settled.
+#define AVOS_TERM(k)                                                                               \
+  if (!settled)                                                                                    \
+  {                                                                                                \
+    moment = g[2] / avos_real(k + 3);                                                              \
+    moment = g[1] / avos_real(k + 2) + h * moment;                                                 \
+    moment = g[0] / avos_real(k + 1) + h * moment;                                                 \
+    sum += c[k] * hk * h * moment;                                                                 \
+    settled = Ev * h * gmax * max(whole - partial, avos_real(0.0)) <= limit;                       \
+  }
+// c_k+1 and C_k+1 from the recursion's terms j = 1 .. min(10, k + 1).
+#define AVOS_RECUR(k, j)                                                                           \
+  if (j <= k + 1)                                                                                  \
+  {                                                                                                \
+    next -= avos_real(j) * theta[j] * c[max(k + 1 - j, 0)];                                        \
+    majorant += abs(avos_real(j) * theta[j]) * C[max(k + 1 - j, 0)];                               \
+  }
+#define AVOS_NEXT(k)                                                                               \
+  next = avos_real(0.0);                                                                           \
+  majorant = avos_real(0.0);                                                                       \
+  AVOS_RECUR(k, 1) AVOS_RECUR(k, 2) AVOS_RECUR(k, 3) AVOS_RECUR(k, 4) AVOS_RECUR(k, 5)             \
+  AVOS_RECUR(k, 6) AVOS_RECUR(k, 7) AVOS_RECUR(k, 8) AVOS_RECUR(k, 9) AVOS_RECUR(k, 10)            \
+  c[k + 1] = next / avos_real(k + 1);                                                              \
+  C[k + 1] = majorant / avos_real(k + 1);                                                          \
+  hk *= h;                                                                                         \
+  partial += C[k + 1] * hk;
+
+// numerics::detail::SubintervalSeries for J alone: the integral of
+// g(w) e^{-theta(w)} over [0, h] (theta shifted to the sub-interval, A =
+// avos_magnitude(theta, h) <= 1), e^{-theta} as its power series c_k
+// ((k + 1) c_k+1 = -sum_j j theta_j c_k+1-j), dominated term by term by
+// that of e^{A(w)} (C_k, the same recursion on |theta_j|), whose sum at h is
+// e^A: truncated after k terms the integral errs by at most
+// Ev h max|g| (e^A - sum_{i <= k} C_i h^i). Terms are added until that is
+// within `limit`; false when 16 do not suffice. Written out (see
+// avos_ppLocate).
+bool avos_series(avos_real theta[11], avos_real g[3], avos_real h, avos_real A, avos_real Ev,
+  avos_real limit, out avos_real sum)
+{
+  avos_real gmax = abs(g[0]) + h * (abs(g[1]) + h * abs(g[2]));
+  avos_real whole = avos_exp(A);
+  avos_real c[avos_terms + 1];
+  avos_real C[avos_terms + 1];
+  c[0] = avos_real(1.0);
+  C[0] = avos_real(1.0);
+  avos_real partial = avos_real(1.0);
+  avos_real hk = avos_real(1.0);
+  sum = avos_real(0.0);
+  bool settled = false;
+  avos_real next;
+  avos_real majorant;
+  avos_real moment;
+  // Term k, then the next coefficients (written out: see avos_ppLocate).
+  AVOS_TERM(0) AVOS_NEXT(0) AVOS_TERM(1) AVOS_NEXT(1) AVOS_TERM(2) AVOS_NEXT(2)
+  AVOS_TERM(3) AVOS_NEXT(3) AVOS_TERM(4) AVOS_NEXT(4) AVOS_TERM(5) AVOS_NEXT(5)
+  AVOS_TERM(6) AVOS_NEXT(6) AVOS_TERM(7) AVOS_NEXT(7) AVOS_TERM(8) AVOS_NEXT(8)
+  AVOS_TERM(9) AVOS_NEXT(9) AVOS_TERM(10) AVOS_NEXT(10) AVOS_TERM(11) AVOS_NEXT(11)
+  AVOS_TERM(12) AVOS_NEXT(12) AVOS_TERM(13) AVOS_NEXT(13) AVOS_TERM(14) AVOS_NEXT(14)
+  AVOS_TERM(15) AVOS_NEXT(15) AVOS_TERM(16)
+  return settled;
+}
+
+// J = int_0^l d'(v) e^{-theta(v)} dv on a monotone piece whose midpoint
+// bound did not fit (numerics::detail::SeriesIntegrals): sub-intervals
+// [v, v + h] allowed scale (front (E_v - E_v+h) + h / L), where the shifted
+// depth has A <= 1 and the series meets that share; halved otherwise, then
+// doubled again. The rest of J is dropped once E_v times the variation of d
+// over the rest fits the rest's share. Where A stays above 1 or the series
+// does not settle at 2^-40 of the piece, the midpoint of the sub-interval's
+// bounds (proven within half their difference). Returns false beyond 2^16
+// sub-intervals (extreme data only, as on the CPU).
+bool avos_seriesJ(avos_real theta[11], avos_real d[4], avos_real l, avos_real El,
+  avos_real scale, avos_real front, avos_real inverseL, out avos_real J)
+{
+  J = avos_real(0.0);
+  avos_real v = avos_real(0.0);
+  avos_real h = l;
+  avos_real Ev = avos_real(1.0);
+  avos_real floor = l * avos_real(9.094947017729282e-13); // 2^-40
+  for (int count = 0; v < l; ++count)
+  {
+    if (count == 65536)
+    {
+      return false;
+    }
+    h = min(h, l - v);
+    avos_real ts[11] = theta;
+    avos_shiftDepth(ts, v);
+    avos_real gs[3] = avos_real[3](d[1], avos_real(2.0) * d[2], avos_real(3.0) * d[3]);
+    avos_shiftSlope(gs, v);
+    avos_real rest = l - v;
+    avos_real variation = rest * (abs(gs[0]) + rest * (abs(gs[1]) + rest * abs(gs[2])));
+    if (Ev * variation <= scale * (front * (Ev - El) + rest * inverseL))
+    {
+      return true;
+    }
+    avos_real A = avos_magnitude(ts, h);
+    while (A > avos_real(1.0) && h > floor)
+    {
+      h = max(avos_real(0.5) * h, floor);
+      A = avos_magnitude(ts, h);
+    }
+    avos_real end = l - v <= h ? l : v + h;
+    avos_real Eh = end == l ? El : avos_exp(-avos_depth(theta, end));
+    avos_real sum;
+    bool settled = A <= avos_real(1.0) &&
+      avos_series(ts, gs, h, A, Ev, scale * (front * (Ev - Eh) + h * inverseL), sum);
+    if (settled)
+    {
+      J += Ev * sum;
+    }
+    else if (h > floor && A <= avos_real(1.0))
+    {
+      h = max(avos_real(0.5) * h, floor);
+      continue;
+    }
+    else
+    {
+      // The midpoint of int g between Eh and Ev (g keeps its sign).
+      J += h * (gs[0] + h * (gs[1] / avos_real(2.0) + h * gs[2] / avos_real(3.0))) *
+        (Ev + Eh) * avos_real(0.5);
+    }
+    v = end;
+    Ev = Eh;
+    h *= avos_real(2.0);
+  }
+  return true;
+}
+
+// Piece `i` of the transfer function over [ua, ub] of the cell's cubic q.
+void avos_integratePiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_real ua,
+  avos_real ub)
+{
+  if (!(avos_ppB[i].y > avos_ppVisibleBefore(i)))
+  {
+    return; // tau = 0 on the whole piece
+  }
+  avos_real start = avos_real(avos_ppA[i].x);
+  avos_real l = ub - ua;
+  // d(v) = s(ua + v) - Start.
+  avos_real d[4];
+  d[0] = avos_at(q, ua) - start;
+  d[1] = q.K[1] + ua * (avos_real(2.0) * q.K[2] + ua * avos_real(3.0) * q.K[3]);
+  d[2] = q.K[2] + avos_real(3.0) * q.K[3] * ua;
+  d[3] = q.K[3];
+  // tau(v) = t0 + t1 d + t2 d^2 + t3 d^3 (degree 9 in v); theta[j] the
+  // coefficient of v^j of its integral.
+  avos_real t2 = avos_real(avos_ppA[i].w);
+  avos_real t3 = avos_real(avos_ppB[i].x);
+  avos_real square[7];
+  square[0] = d[0] * d[0];
+  square[1] = avos_real(2.0) * d[0] * d[1];
+  square[2] = avos_real(2.0) * d[0] * d[2] + d[1] * d[1];
+  square[3] = avos_real(2.0) * (d[0] * d[3] + d[1] * d[2]);
+  square[4] = avos_real(2.0) * d[1] * d[3] + d[2] * d[2];
+  square[5] = avos_real(2.0) * d[2] * d[3];
+  square[6] = d[3] * d[3];
+  avos_real cube[10];
+  cube[0] = square[0] * d[0];
+  cube[1] = square[0] * d[1] + square[1] * d[0];
+  cube[2] = square[0] * d[2] + square[1] * d[1] + square[2] * d[0];
+  cube[3] = square[0] * d[3] + square[1] * d[2] + square[2] * d[1] + square[3] * d[0];
+  cube[4] = square[1] * d[3] + square[2] * d[2] + square[3] * d[1] + square[4] * d[0];
+  cube[5] = square[2] * d[3] + square[3] * d[2] + square[4] * d[1] + square[5] * d[0];
+  cube[6] = square[3] * d[3] + square[4] * d[2] + square[5] * d[1] + square[6] * d[0];
+  cube[7] = square[4] * d[3] + square[5] * d[2] + square[6] * d[1];
+  cube[8] = square[5] * d[3] + square[6] * d[2];
+  cube[9] = square[6] * d[3];
+  avos_real t0 = avos_real(avos_ppA[i].y);
+  avos_real t1 = avos_real(avos_ppA[i].z);
+  avos_real theta[11];
+  theta[0] = avos_real(0.0);
+  theta[1] = t0 + t1 * d[0] + t2 * square[0] + t3 * cube[0];
+  theta[2] = (t1 * d[1] + t2 * square[1] + t3 * cube[1]) / avos_real(2.0);
+  theta[3] = (t1 * d[2] + t2 * square[2] + t3 * cube[2]) / avos_real(3.0);
+  theta[4] = (t1 * d[3] + t2 * square[3] + t3 * cube[3]) / avos_real(4.0);
+  theta[5] = (t2 * square[4] + t3 * cube[4]) / avos_real(5.0);
+  theta[6] = (t2 * square[5] + t3 * cube[5]) / avos_real(6.0);
+  theta[7] = (t2 * square[6] + t3 * cube[6]) / avos_real(7.0);
+  theta[8] = t3 * cube[7] / avos_real(8.0);
+  theta[9] = t3 * cube[8] / avos_real(9.0);
+  theta[10] = t3 * cube[9] / avos_real(10.0);
+
+  avos_real Ta = ray.T;
+  avos_real EL = avos_exp(-avos_depth(theta, l));
+  avos_real3 c0 = avos_real3(avos_ppC[i].rgb);
+  avos_real3 c1 = avos_real3(avos_ppS[i].rgb);
+  avos_real qa = d[0];
+  avos_real ql = avos_at(q, ub) - start;
+  ray.Colour += Ta * (c0 + c1 * qa) - Ta * EL * (c0 + c1 * ql);
+  ray.T = Ta * EL;
+  avos_real cs = avos_real(avos_ppB[i].z);
+  if (!(cs > avos_real(0.0) && Ta > avos_real(0.0)))
+  {
+    return;
+  }
+  avos_real dq = ql - qa;
+  avos_real J = dq * (avos_real(1.0) + EL) * avos_real(0.5);
+  if (cs * Ta * abs(dq) * (avos_real(1.0) - EL) >
+      ray.Budget * (Ta * (avos_real(1.0) - EL) + l * ray.InverseL) &&
+    !avos_seriesJ(theta, d, l, EL, ray.Budget / (avos_real(2.0) * cs * Ta), Ta, ray.InverseL, J))
+  {
+    ray.Failed = true;
+    return;
+  }
+  ray.Colour += c1 * (Ta * J);
+}
+
+// The cell's part [t0, t1] of the ray, cut at its cubic's extrema and knot
+// crossings, integrated piece by piece; false once the ray stops (early
+// termination at `bound` or a failed piece).
+bool avos_piecewiseCell(inout avos_PiecewiseRay ray, ivec3 cell, avos_real t0, avos_real t1,
+  avos_real bound)
+{
+  float c[8];
+  if (!avos_corners(cell, c))
+  {
+    return true; // undefined: empty
+  }
+  float lo = min(min(min(c[0], c[1]), min(c[2], c[3])), min(min(c[4], c[5]), min(c[6], c[7])));
+  float hi = max(max(max(c[0], c[1]), max(c[2], c[3])), max(max(c[4], c[5]), max(c[6], c[7])));
+  int first = avos_ppLocate(avos_real(lo));
+  int last = avos_ppLocate(avos_real(hi));
+  if (!(avos_ppB[last].y > avos_ppVisibleBefore(first)))
+  {
+    return true; // tau = 0 over the corners' range
+  }
+  ++avos_samples;
+  avos_Cubic q = avos_cellCubic(c, cell, t0);
+  avos_real extent = t1 - t0;
+  avos_real roots[2];
+  int n = avos_extrema(q, extent, roots);
+  avos_real ends[4] = avos_real[4](avos_real(0.0), roots[0], roots[1], extent);
+  ends[n + 1] = extent;
+  for (int k = 0; k <= n; ++k)
+  {
+    // A monotone stretch [ua, ub]: its knot crossings in order along u.
+    avos_real ua = ends[k];
+    avos_real ub = ends[k + 1];
+    avos_real sa = clamp(avos_at(q, ua), avos_real(lo), avos_real(hi));
+    avos_real sb = clamp(avos_at(q, ub), avos_real(lo), avos_real(hi));
+    bool rising = sb >= sa;
+    int pa = avos_ppLocate(min(sa, sb));
+    int pb = avos_ppLocate(max(sa, sb));
+    avos_real u = ua;
+    for (int j = 0; j <= pb - pa; ++j)
+    {
+      // Pieces pa..pb, in the stretch's order; piece p ends where q
+      // crosses the next knot (the one after it rising, its own start
+      // falling).
+      int p = rising ? pa + j : pb - j;
+      avos_real next = ub;
+      if (j < pb - pa)
+      {
+        avos_real knot = avos_real(avos_ppA[rising ? p + 1 : p].x);
+        next = clamp(avos_crossing(q, knot, ua, ub), u, ub);
+      }
+      if (next > u)
+      {
+        avos_integratePiece(ray, q, p, u, next);
+        if (ray.Failed || ray.T <= bound)
+        {
+          return false;
+        }
+      }
+      u = next;
+    }
+  }
+  return true;
+}
+
+// The piecewise method over the visible parts of [0, D] (IntegratePiecewise
+// over the empty-space segments). Alpha < 0: a piece beyond its bound.
+vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
+{
+  avos_real L = avos_real(0.0);
+  avos_real begin;
+  avos_real end;
+  avos_Walk walk = avos_startWalk(D);
+  while (avos_nextSegment(walk, D, begin, end))
+  {
+    L += end - begin;
+  }
+  if (!(L > avos_real(0.0)))
+  {
+    return vec4(0.0);
+  }
+  avos_PiecewiseRay ray;
+  ray.Colour = avos_real3(0.0);
+  ray.T = avos_real(1.0);
+  ray.InverseL = avos_real(1.0) / L;
+  ray.Budget = avos_real(0.6) * avos_real(tolerance);
+  ray.Failed = false;
+  avos_real bound = earlyTermination
+    ? avos_real(0.15) * avos_real(tolerance) / max(avos_real(1.0), avos_real(avos_maximumColour))
+    : avos_real(-1.0);
+  walk = avos_startWalk(D);
+  bool going = true;
+  while (going && avos_nextSegment(walk, D, begin, end))
+  {
+    avos_CellWalk cells = avos_startCells(begin, end);
+    ivec3 cell;
+    avos_real t0;
+    avos_real t1;
+    while (going && avos_nextCell(cells, cell, t0, t1))
+    {
+      going = avos_piecewiseCell(ray, cell, t0, t1, bound);
+    }
+  }
+  if (ray.Failed)
+  {
+    return vec4(0.0, 0.0, 0.0, -1.0);
+  }
+  float alpha = float(avos_real(1.0) - ray.T);
+  return vec4(clamp(vec3(ray.Colour), vec3(0.0), vec3(alpha)), alpha);
+}
+
 // The projection as VTK shows it (and vtkAdaptiveVolumeMapper): the colour at
 // the extremum times the opacity function's value there clamped to [0, 1],
 // that value as alpha; nothing where no finite cell lies on the ray.
@@ -1007,6 +1530,10 @@ void avos_castRay()
   if (avos_blend != 0)
   {
     avos_result = avos_projection(avos_rayExtent, avos_blend == 1);
+  }
+  else if (avos_method == 3)
+  {
+    avos_result = avos_piecewise(avos_rayExtent, avos_tolerance, avos_earlyTermination != 0);
   }
   else if (avos_method == 0)
   {

@@ -100,6 +100,18 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     "a Riemann step above 1000", "step", [&] { mapper->SetRiemannStep(2000.0); },
     [&] { mapper->SetRiemannStep(0.5); });
   refused(
+    "a piecewise tolerance below 1e-5", "from 1e-5 to 1",
+    [&]
+    {
+      mapper->SetIntegrationMethodToPiecewiseAdaptive();
+      mapper->SetTolerance(1e-6);
+    },
+    [&]
+    {
+      mapper->SetIntegrationMethodToAdaptiveCoupled();
+      mapper->SetTolerance(0.01);
+    });
+  refused(
     "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
     [&] { mapper->SetMinimumStep(0.1); });
   refused(
