@@ -79,14 +79,18 @@ public:
   vtkMTimeType TFPropertyTime = 0; // 0: not converted (or refused)
   int TFModel = 0;
   double TFVoxel = 0.0;
+  avos::ConversionBudget Conversion; // what the conversion took (the piecewise method's)
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
   // The piecewise method's pieces (PIECEWISE_ADAPTIVE only), rebuilt when
-  // the transfer function or the tolerance changes.
+  // the transfer function or the tolerance changes; the tolerance the rays
+  // are integrated to (what the conversion left of eps; eps for the other
+  // methods).
   avos::numerics::PiecewiseTransferFunction<double> Pieces;
   vtkTimeStamp PiecesTime;
   double PiecesTolerance = 0.0;
+  double IntegrationTolerance = 0.0;
   int PiecewiseCount = -1; // the size the avos_pp arrays were declared with
 
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
@@ -171,6 +175,25 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   if (this->MaskInput)
   {
     return "masks are not supported";
+  }
+  if (this->GetInputCount() > 1)
+  {
+    return "a vtkMultiVolume's inputs beyond the first are not supported";
+  }
+  if (this->UseJittering)
+  {
+    return "UseJittering is not supported: the methods place their own samples (turn it off)";
+  }
+  if (this->UseDepthPass)
+  {
+    return "UseDepthPass (the depth of contour values) is not supported";
+  }
+  if (this->ColorRangeType != vtkGPUVolumeRayCastMapper::SCALAR ||
+    this->ScalarOpacityRangeType != vtkGPUVolumeRayCastMapper::SCALAR ||
+    this->GradientOpacityRangeType != vtkGPUVolumeRayCastMapper::SCALAR)
+  {
+    return "only the SCALAR transfer-function range types are supported (the transfer function "
+           "is evaluated where VTK's GetColor and GetValue evaluate it)";
   }
   if (ren && ren->GetUseDepthPeeling() && ren->GetUseDepthPeelingForVolumes())
   {
@@ -259,15 +282,31 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return "the image's spacing or the volume's matrix is degenerate";
   }
   vtkInternals& internals = *this->Internals;
-  if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
-    voxel != internals.TFVoxel)
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  if (piecewise && !GLEW_ARB_gpu_shader_fp64)
   {
-    avos::ConversionBudget budget; // none: the GPU's methods certify no conversion
+    return "the piecewise method needs double precision in shaders (GL_ARB_gpu_shader_fp64), "
+           "which this OpenGL context lacks: use vtkAdaptiveVolumeMapper";
+  }
+  // The piecewise method converts VTK's functions within shares of its eps
+  // where they are not piecewise linear, as the CPU mapper does, and
+  // integrates to the rest; the sampled methods certify no conversion.
+  avos::ConversionBudget budget;
+  if (piecewise)
+  {
+    const int* dims = vtkImageData::SafeDownCast(this->GetInput())->GetDimensions();
+    budget = avos::ConversionBudget::ForTolerance(
+      this->Tolerance, 1.0, avos::LongestChord(gridToWorld, dims) / voxel);
+  }
+  if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
+    voxel != internals.TFVoxel || !budget.SameAs(internals.Conversion))
+  {
     error = avos::TransferFunctionFromProperty(
       property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF, &budget);
     internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
+    internals.Conversion = budget;
     internals.TFTime.Modified();
     if (!error.empty())
     {
@@ -278,23 +317,20 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
       vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
   }
-  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
-  if (piecewise && !GLEW_ARB_gpu_shader_fp64)
-  {
-    return "the piecewise method needs double precision in shaders (GL_ARB_gpu_shader_fp64), "
-           "which this OpenGL context lacks: use vtkAdaptiveVolumeMapper";
-  }
+  internals.IntegrationTolerance =
+    piecewise ? avos::IntegrationTolerance(this->Tolerance, internals.Conversion) : this->Tolerance;
   if (piecewise &&
-    (internals.PiecesTime < internals.TFTime || internals.PiecesTolerance != this->Tolerance))
+    (internals.PiecesTime < internals.TFTime ||
+      internals.PiecesTolerance != internals.IntegrationTolerance))
   {
     error = internals.Pieces.Build(
-      internals.TF, avos::numerics::PiecewiseRelativeError(this->Tolerance));
+      internals.TF, avos::numerics::PiecewiseRelativeError(internals.IntegrationTolerance));
     if (!error.empty())
     {
       return error;
     }
     internals.PiecesTime.Modified();
-    internals.PiecesTolerance = this->Tolerance;
+    internals.PiecesTolerance = internals.IntegrationTolerance;
   }
   // Uniform vectors: 3 per transfer-function piece, 4 per piecewise piece.
   const std::size_t pieces = internals.TF.GetPieces().size();
@@ -474,7 +510,7 @@ void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
     this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
       ? 1
       : (this->BlendMode == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND ? 2 : 0));
-  uniforms->SetUniformf("avos_tolerance", float(this->Tolerance));
+  uniforms->SetUniformf("avos_tolerance", float(this->Internals->IntegrationTolerance));
   const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
     float(this->MaximumStep), float(this->RiemannStep) };
   uniforms->SetUniform4f("avos_steps", steps);

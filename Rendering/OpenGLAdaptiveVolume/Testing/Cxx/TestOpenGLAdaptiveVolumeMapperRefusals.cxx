@@ -119,6 +119,20 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     [&] { mapper->SetBlendModeToComposite(); });
   refused(
     "cropping", "cropping", [&] { mapper->CroppingOn(); }, [&] { mapper->CroppingOff(); });
+  refused(
+    "jittering", "UseJittering", [&] { mapper->UseJitteringOn(); },
+    [&] { mapper->UseJitteringOff(); });
+  refused(
+    "the depth pass", "UseDepthPass", [&] { mapper->UseDepthPassOn(); },
+    [&] { mapper->UseDepthPassOff(); });
+  refused(
+    "the native colour range", "SCALAR",
+    [&] { mapper->SetColorRangeType(vtkGPUVolumeRayCastMapper::NATIVE); },
+    [&] { mapper->SetColorRangeType(vtkGPUVolumeRayCastMapper::SCALAR); });
+  refused(
+    "a second input (vtkMultiVolume)", "inputs beyond the first",
+    [&] { mapper->SetInputConnection(1, source->GetOutputPort()); },
+    [&] { mapper->RemoveInputConnection(1, source->GetOutputPort()); });
   vtkNew<vtkPlane> plane;
   refused(
     "a clipping plane", "clipping", [&] { mapper->AddClippingPlane(plane); },
