@@ -1,6 +1,7 @@
 #include "vtkOpenGLAdaptiveVolumeMapper.h"
 
 #include "avosAdaptiveIntegratorGLSL.h"
+#include "avosClippingPlanes.h"
 #include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
 #include "avosTransferFunctionFromProperty.h"
@@ -17,6 +18,7 @@
 #include "vtkOpenGLShaderProperty.h"
 #include "vtkPlaneCollection.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkTextureObject.h"
 #include "vtkTimeStamp.h"
 #include "vtkUniforms.h"
@@ -38,6 +40,9 @@ namespace
 // Uniform vectors the shader needs besides the transfer function's pieces
 // (VTK's own uniforms and ours), kept free of the GPU's fragment storage.
 constexpr int ReservedUniformVectors = 256;
+
+// The clipping planes the shader takes (as VTK's GPU mapper).
+constexpr int MaximumClippingPlanes = 6;
 
 // texel * scale + bias = the data's scalar, for the formats VTK 9.1 uploads:
 // normalised 8- and 16-bit unsigned integers, float (double converted).
@@ -80,6 +85,7 @@ public:
   int TFModel = 0;
   double TFVoxel = 0.0;
   avos::ConversionBudget Conversion; // what the conversion took (the piecewise method's)
+  avos::numerics::ClipRegion<double> Clip; // the clipping planes in grid coordinates
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
@@ -168,9 +174,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     return "cropping is not supported";
   }
-  if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > 0)
+  if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > MaximumClippingPlanes)
   {
-    return "clipping planes are not supported";
+    return "at most " + std::to_string(MaximumClippingPlanes) + " clipping planes are supported";
   }
   if (this->MaskInput)
   {
@@ -255,13 +261,17 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetMethodUniforms(uniforms);
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
-  // Our shader blends (avos_blend): the superclass builds its composite
-  // shader, whose ray loop ours replaces, whatever the blend mode (its
-  // projections would overwrite our colour after the loop).
+  // Our shader blends (avos_blend) and clips (avos_clipPlanes): the
+  // superclass builds its composite shader without planes, whose ray loop
+  // ours replaces (its projections would overwrite our colour after the
+  // loop, its clipping discard fragments by its own rounding).
   const int blendMode = this->BlendMode;
+  vtkSmartPointer<vtkPlaneCollection> planes = this->ClippingPlanes;
   this->BlendMode = vtkVolumeMapper::COMPOSITE_BLEND;
+  this->ClippingPlanes = nullptr;
   this->Superclass::GPURender(ren, vol);
   this->BlendMode = blendMode;
+  this->ClippingPlanes = planes;
   this->Internals->Blocks->Deactivate();
 }
 
@@ -280,6 +290,16 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
   {
     return "the image's spacing or the volume's matrix is degenerate";
+  }
+  this->Internals->Clip.Clear();
+  error = avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), this->Internals->Clip);
+  if (error.empty())
+  {
+    error = this->Internals->Clip.Validate();
+  }
+  if (!error.empty())
+  {
+    return error;
   }
   vtkInternals& internals = *this->Internals;
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
@@ -649,6 +669,22 @@ void vtkOpenGLAdaptiveVolumeMapper::SetRayUniforms(
   }
   uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel[0]);
   uniforms->SetUniformMatrix3x3("avos_gridToVoxelLo", gridToVoxel[1]);
+
+  // The clipping planes in grid coordinates (numerics::ClipRegion: keeps
+  // normal . x + offset >= 0), each double as float hi + lo.
+  const auto& planes = this->Internals->Clip.GetPlanes();
+  float clip[2][MaximumClippingPlanes][4] = {};
+  for (std::size_t i = 0; i < planes.size(); ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      Split(planes[i].Normal[k], clip[0][i][k], clip[1][i][k]);
+    }
+    Split(planes[i].Offset, clip[0][i][3], clip[1][i][3]);
+  }
+  uniforms->SetUniform4fv("avos_clipPlanes", MaximumClippingPlanes, clip[0]);
+  uniforms->SetUniform4fv("avos_clipPlanesLo", MaximumClippingPlanes, clip[1]);
+  uniforms->SetUniformi("avos_clipPlaneCount", static_cast<int>(planes.size()));
 }
 
 //------------------------------------------------------------------------------

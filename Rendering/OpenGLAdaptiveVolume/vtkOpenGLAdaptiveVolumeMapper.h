@@ -49,12 +49,19 @@
  * (clamped to [0, 1]), that value as alpha. VTK's GPU mapper takes the
  * extremum of samples and misses peaks between them.
  *
+ * Clipping planes (up to 6, world coordinates, each keeping the side its
+ * normal points to) cut every ray exactly where vtkAdaptiveVolumeMapper cuts
+ * it; the ray starts at its kept part's entry (as VTK's mappers start a
+ * clipped ray). The superclass builds its shader without them.
+ *
  * Supported: one-component point scalars of type unsigned char, unsigned
  * short, float or double (double is uploaded as float by VTK), the blend
- * modes above, linear interpolation, 1D transfer functions without shading.
- * Refused with an error and nothing drawn (never ignored): other scalar
- * types, cell scalars, several components, other blend modes, cropping,
- * clipping planes, masks, shading, gradient opacity, 2D transfer functions,
+ * modes above, clipping planes, linear interpolation, 1D transfer functions
+ * without shading. Refused with an error and nothing drawn (never ignored):
+ * other scalar types, cell scalars, several components, other blend modes,
+ * cropping, more than 6 clipping planes or one with a transform, masks,
+ * jittering, the depth pass, NATIVE transfer-function ranges, a
+ * vtkMultiVolume's further inputs, shading, gradient opacity, 2D transfer functions,
  * dual depth peeling of volumes, invalid tolerances or steps, transfer
  * functions with more pieces than the GPU's uniform storage holds.
  *

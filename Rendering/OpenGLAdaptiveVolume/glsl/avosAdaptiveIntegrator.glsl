@@ -1448,7 +1448,7 @@ avos_real3 avos_join(vec3 hi, vec3 lo)
 
 // The ray through this fragment's pixel centre from the near plane to the
 // depth buffer (as vtkAdaptiveVolumeMapper casts it), clipped to the grid's
-// box [0, n - 1]. False when it misses the box. Its points are affine in
+// box [0, n - 1] and to the clipping planes. False when nothing is left. Its points are affine in
 // NDC x, y on any plane of constant depth (a camera's homogeneous w depends
 // on the depth alone), so the mapper gives, in double, the coefficients of
 // the point on the plane through the volume's centre and of the near-to-far
@@ -1499,6 +1499,27 @@ bool avos_setUpRay()
     avos_real ub = (last[a] - centre[a]) / direction[a];
     u0 = max(u0, min(ua, ub));
     u1 = min(u1, max(ua, ub));
+  }
+  // The clipping planes keep normal . x + offset >= 0 (numerics::ClipRegion's
+  // Kept): one interval, the ray starting at its entry (VTK's mappers start
+  // a clipped ray there, and so do vtkAdaptiveVolumeMapper's).
+  for (int i = 0; i < avos_clipPlaneCount; ++i)
+  {
+    avos_real3 normal = avos_join(avos_clipPlanes[i].xyz, avos_clipPlanesLo[i].xyz);
+    avos_real a = dot(normal, centre) + avos_join(avos_clipPlanes[i].w, avos_clipPlanesLo[i].w);
+    avos_real b = dot(normal, direction);
+    if (b > avos_real(0.0))
+    {
+      u0 = max(u0, -a / b);
+    }
+    else if (b < avos_real(0.0))
+    {
+      u1 = min(u1, -a / b);
+    }
+    else if (a < avos_real(0.0))
+    {
+      return false;
+    }
   }
   if (!(u1 > u0))
   {

@@ -14,6 +14,7 @@
 #include "vtkPointDataToCellData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTransform.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -135,8 +136,21 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     [&] { mapper->RemoveInputConnection(1, source->GetOutputPort()); });
   vtkNew<vtkPlane> plane;
   refused(
-    "a clipping plane", "clipping", [&] { mapper->AddClippingPlane(plane); },
+    "seven clipping planes", "at most 6 clipping planes",
+    [&]
+    {
+      for (int i = 0; i < 7; ++i)
+      {
+        mapper->AddClippingPlane(plane);
+      }
+    },
     [&] { mapper->RemoveAllClippingPlanes(); });
+  vtkNew<vtkTransform> shift;
+  vtkNew<vtkPlane> transformed;
+  transformed->SetTransform(shift);
+  refused(
+    "a clipping plane with a transform", "with a transform",
+    [&] { mapper->AddClippingPlane(transformed); }, [&] { mapper->RemoveAllClippingPlanes(); });
   refused(
     "shading", "Shading", [&] { property->ShadeOn(); }, [&] { property->ShadeOff(); });
   refused(

@@ -4,12 +4,13 @@ mapper's on the same frame within the tolerance, for the coupled and
 decoupled strategies and the Riemann sum, and its maximum and minimum
 intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
-integral; a bad tolerance is refused and draws nothing."""
+integral; clipping planes cut its rays where they cut the CPU mapper's; a
+bad tolerance is refused and draws nothing."""
 
 import avos
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonCore import vtkCommand
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vtkPlane
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
                                          vtkVolume, vtkVolumeProperty)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
@@ -91,37 +92,51 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             self.assertGreater(covered, SIZE * SIZE // 8, method)
             self.assertLessEqual(worst, eps, method)
 
+    def cpuImage(self, configure):
+        """The CPU mapper's float RGBA image, the mapper set up by configure."""
+        cpu = avos.vtkAdaptiveVolumeMapper()
+        cpu.SetInputConnection(self.source.GetOutputPort())
+        configure(cpu)
+        self.render(cpu)
+        return cpu.GetRenderedImage().GetPointData().GetScalars()
+
+    def gpuDifference(self, configure, expected):
+        """The largest difference over pixels and RGBA between the GPU's float
+        image (the mapper set up by configure) and `expected`, and the pixels
+        expected covers; no warning may be emitted."""
+        gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
+        gpu.SetInputConnection(self.source.GetOutputPort())
+        configure(gpu)
+        gpu.SetRenderToImage(1)
+        gpu.SetDepthImageScalarTypeToFloat()
+        warnings = []
+        gpu.AddObserver(vtkCommand.WarningEvent, lambda caller, event: warnings.append(event))
+        self.window = self.render(gpu)  # the images live in its context
+        worst, covered = 0.0, 0
+        for channel in range(4):
+            gpu.SetImageQuantity(avos.vtkOpenGLAdaptiveVolumeMapper.RED + channel)
+            self.window.Render()
+            image = vtkImageData()
+            gpu.GetDepthImage(image)
+            values = image.GetPointData().GetScalars()
+            self.assertEqual(values.GetNumberOfTuples(), SIZE * SIZE)
+            for i in range(SIZE * SIZE):
+                v = values.GetValue(i)
+                if v == 1.0 and expected.GetComponent(i, 3) == 0.0:
+                    v = 0.0  # no fragment: the image's clear value
+                covered += channel == 3 and expected.GetComponent(i, 3) > 0.01
+                worst = max(worst, abs(v - expected.GetComponent(i, channel)))
+        self.assertEqual(warnings, [])
+        return worst, covered
+
     def testProjectionsAgreeWithTheCPUMapper(self):
         # Both mappers' projections are exact (the extremum of the trilinear
         # field along the ray): the GPU's float RGBA within 1e-5 of the
         # CPU's on every pixel (the issue's parity bound is 2/255 in the mean).
         for blend in ("MaximumIntensity", "MinimumIntensity"):
-            cpu = avos.vtkAdaptiveVolumeMapper()
-            cpu.SetInputConnection(self.source.GetOutputPort())
-            getattr(cpu, "SetBlendModeTo" + blend)()
-            self.render(cpu)
-            expected = cpu.GetRenderedImage().GetPointData().GetScalars()
-
-            gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
-            gpu.SetInputConnection(self.source.GetOutputPort())
-            getattr(gpu, "SetBlendModeTo" + blend)()
-            gpu.SetRenderToImage(1)
-            gpu.SetDepthImageScalarTypeToFloat()
-            self.window = self.render(gpu)  # the images live in its context
-            worst, covered = 0.0, 0
-            for channel in range(4):
-                gpu.SetImageQuantity(avos.vtkOpenGLAdaptiveVolumeMapper.RED + channel)
-                self.window.Render()
-                image = vtkImageData()
-                gpu.GetDepthImage(image)
-                values = image.GetPointData().GetScalars()
-                self.assertEqual(values.GetNumberOfTuples(), SIZE * SIZE)
-                for i in range(SIZE * SIZE):
-                    v = values.GetValue(i)
-                    if v == 1.0 and expected.GetComponent(i, 3) == 0.0:
-                        v = 0.0  # no fragment: the image's clear value
-                    covered += channel == 3 and expected.GetComponent(i, 3) > 0.01
-                    worst = max(worst, abs(v - expected.GetComponent(i, channel)))
+            def configure(mapper):
+                getattr(mapper, "SetBlendModeTo" + blend)()
+            worst, covered = self.gpuDifference(configure, self.cpuImage(configure))
             self.assertGreater(covered, SIZE * SIZE // 16, blend)  # the minimum is often clear
             self.assertLessEqual(worst, 1e-5, blend)
 
@@ -141,40 +156,57 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         opacity.AddPoint(1.0, 0.5)
         self.prop.SetColor(color)
         self.prop.SetScalarOpacity(opacity)
-
-        cpu = avos.vtkAdaptiveVolumeMapper()
-        cpu.SetInputConnection(self.source.GetOutputPort())
-        cpu.SetIntegrationMethodToPiecewiseAdaptive()
-        cpu.SetTolerance(1e-5)
-        self.render(cpu)
-        expected = cpu.GetRenderedImage().GetPointData().GetScalars()
-
         eps = 1e-3
-        gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
-        gpu.SetInputConnection(self.source.GetOutputPort())
-        gpu.SetIntegrationMethodToPiecewiseAdaptive()
-        gpu.SetTolerance(eps)
-        gpu.SetRenderToImage(1)
-        gpu.SetDepthImageScalarTypeToFloat()
-        warnings = []
-        gpu.AddObserver(vtkCommand.WarningEvent, lambda caller, event: warnings.append(event))
-        self.window = self.render(gpu)  # the images live in its context
-        worst, covered = 0.0, 0
-        for channel in range(4):
-            gpu.SetImageQuantity(avos.vtkOpenGLAdaptiveVolumeMapper.RED + channel)
-            self.window.Render()
-            image = vtkImageData()
-            gpu.GetDepthImage(image)
-            values = image.GetPointData().GetScalars()
-            for i in range(SIZE * SIZE):
-                v = values.GetValue(i)
-                if v == 1.0 and expected.GetComponent(i, 3) == 0.0:
-                    v = 0.0  # no fragment: the image's clear value
-                covered += channel == 3 and expected.GetComponent(i, 3) > 0.01
-                worst = max(worst, abs(v - expected.GetComponent(i, channel)))
-        self.assertEqual(warnings, [])
+
+        def exact(cpu):
+            cpu.SetIntegrationMethodToPiecewiseAdaptive()
+            cpu.SetTolerance(1e-5)
+
+        def piecewise(gpu):
+            gpu.SetIntegrationMethodToPiecewiseAdaptive()
+            gpu.SetTolerance(eps)
+        worst, covered = self.gpuDifference(piecewise, self.cpuImage(exact))
         self.assertGreater(covered, SIZE * SIZE // 8)
         self.assertLessEqual(worst, eps - 1e-5)
+
+    def testClippingPlanesAsTheCPUMapper(self):
+        # Two planes cut every ray where the CPU mapper cuts it: the
+        # piecewise method within eps of the exact integral, the exact
+        # maximum intensity and the Riemann sum (restarted at the kept
+        # part's entry, as VTK's mappers do) as the CPU's.
+        planes = []
+        for normal, origin in (((1.0, 0.3, 0.2), (-0.3, 0.0, 0.0)), ((0.0, -1.0, 0.4), (0.0, 0.4, 0.0))):
+            plane = vtkPlane()
+            plane.SetNormal(normal)
+            plane.SetOrigin(origin)
+            planes.append(plane)
+
+        def clipped(setting):
+            def configure(mapper):
+                for plane in planes:
+                    mapper.AddClippingPlane(plane)
+                setting(mapper)
+            return configure
+        eps = 1e-3
+        cases = (
+            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
+             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
+             eps - 1e-5),
+            ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
+             lambda m: m.SetBlendModeToMaximumIntensity(), 1e-5),
+            # float samples and sums against double: the Riemann sum's rounding
+            ("Riemann", lambda m: m.SetIntegrationMethodToRiemann(),
+             lambda m: m.SetIntegrationMethodToRiemann(), 1e-4))
+        unclipped = self.cpuImage(lambda m: m.SetBlendModeToMaximumIntensity())
+        for name, cpu, gpu, bound in cases:
+            expected = self.cpuImage(clipped(cpu))
+            if name == "maximum":
+                cut = sum(abs(expected.GetComponent(i, 3) - unclipped.GetComponent(i, 3)) > 0.01
+                          for i in range(SIZE * SIZE))
+                self.assertGreater(cut, SIZE * SIZE // 8, "the planes cut the volume")
+            worst, covered = self.gpuDifference(clipped(gpu), expected)
+            self.assertGreater(covered, SIZE * SIZE // 16, name)
+            self.assertLessEqual(worst, bound, name)
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()

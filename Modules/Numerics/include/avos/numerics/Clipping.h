@@ -59,6 +59,8 @@ public:
     this->Cropping = true;
   }
 
+  const std::vector<HalfSpace>& GetPlanes() const { return this->Planes; }
+
   // True when nothing is clipped or cropped.
   bool IsEmpty() const { return this->Planes.empty() && !this->Cropping; }
 
