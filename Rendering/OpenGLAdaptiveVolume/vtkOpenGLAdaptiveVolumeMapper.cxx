@@ -44,25 +44,77 @@ constexpr int ReservedUniformVectors = 256;
 // The clipping planes the shader takes (as VTK's GPU mapper).
 constexpr int MaximumClippingPlanes = 6;
 
-// texel * scale + bias = the data's scalar, for the formats VTK 9.1 uploads:
-// normalised 8- and 16-bit unsigned integers, float (double converted).
-bool TexelToScalar(int scalarType, float& scale, float& bias)
+// How the shader reads the data's scalar from VTK 9.1's texture: texel *
+// Scale + Bias, rounded to an integer where Round. 8- and 16-bit integers
+// are uploaded normalised (unsigned: UNORM, k / (2^b - 1); signed: SNORM,
+// k / (2^(b-1) - 1), where -2^(b-1) reads as -2^(b-1) + 1); float as is;
+// other types (double, 32- and 64-bit integers) cast to float after VTK's
+// scale and bias onto [0, 1] over their finite range
+// (vtkVolumeTexture::GetScaleAndBias), which the shader inverts within
+// float's rounding of that range. Empty, or why the scalars cannot be read.
+struct TexelMap
 {
-  bias = 0.0f;
-  switch (scalarType)
+  float Scale = 1.0f;
+  float Bias = 0.0f;
+  bool Round = false;
+};
+
+std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map)
+{
+  map = TexelMap();
+  const int type = scalars->GetDataType();
+  double range[2];
+  scalars->GetFiniteRange(range, 0);
+  auto integers = [&](double unit, double minimum)
+  {
+    map.Scale = static_cast<float>(unit);
+    map.Round = true;
+    if (range[0] == minimum)
+    {
+      return std::string("scalars of type ") + scalars->GetDataTypeAsString() + " that reach " +
+        std::to_string(static_cast<long>(minimum)) +
+        " (VTK's normalised texture reads it as the next value up): convert them with "
+        "vtkImageCast to float";
+    }
+    return std::string();
+  };
+  switch (type)
   {
     case VTK_UNSIGNED_CHAR:
-      scale = 255.0f;
-      return true;
+      return integers(255.0, -1.0);
     case VTK_UNSIGNED_SHORT:
-      scale = 65535.0f;
-      return true;
+      return integers(65535.0, -1.0);
+    case VTK_SIGNED_CHAR:
+      return integers(127.0, -128.0);
+    case VTK_SHORT:
+      return integers(32767.0, -32768.0);
     case VTK_FLOAT:
+      return std::string();
     case VTK_DOUBLE:
-      scale = 1.0f;
-      return true;
+    case VTK_INT:
+    case VTK_UNSIGNED_INT:
+    case VTK_LONG:
+    case VTK_UNSIGNED_LONG:
+    case VTK_LONG_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+    {
+      // VTK: texel = float(v scale + bias), scale = float(1 / (hi - lo)),
+      // bias = float(-lo scale), lo and hi the finite range in float.
+      const double lo = static_cast<float>(range[0]);
+      double hi = static_cast<float>(range[1]);
+      hi = hi == lo ? lo + 1e-6 : hi;
+      const double scale = static_cast<float>(1.0 / (hi - lo));
+      const double bias = static_cast<float>(0.0 - lo * scale);
+      map.Scale = static_cast<float>(1.0 / scale);
+      map.Bias = static_cast<float>(-bias / scale);
+      // Integers within 2^20 of each other come back exactly.
+      map.Round = type != VTK_DOUBLE && hi - lo <= 1048576.0;
+      return std::string();
+    }
     default:
-      return false;
+      return std::string("scalars of type ") + scalars->GetDataTypeAsString() +
+        " are not supported (8-, 16-, 32- and 64-bit integers, float, double): convert them with "
+        "vtkImageCast";
   }
 }
 
@@ -84,7 +136,7 @@ public:
   vtkMTimeType TFPropertyTime = 0; // 0: not converted (or refused)
   int TFModel = 0;
   double TFVoxel = 0.0;
-  avos::ConversionBudget Conversion; // what the conversion took (the piecewise method's)
+  avos::ConversionBudget Conversion;       // what the conversion took (the piecewise method's)
   avos::numerics::ClipRegion<double> Clip; // the clipping planes in grid coordinates
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
@@ -156,12 +208,11 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
     return "cell scalars are not supported by the GPU mapper (its texture holds point scalars); "
            "vtkAdaptiveVolumeMapper renders them";
   }
-  float scale, bias;
-  if (!TexelToScalar(scalars->GetDataType(), scale, bias))
+  TexelMap texels;
+  const std::string unreadable = TexelToScalar(scalars, texels);
+  if (!unreadable.empty())
   {
-    return std::string("scalars of type ") + scalars->GetDataTypeAsString() +
-      " are not supported (unsigned char, unsigned short, float, double): convert them with "
-      "vtkImageCast";
+    return unreadable;
   }
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
     this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
@@ -215,13 +266,10 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     return "the tolerance must be in (0, 1]";
   }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE && !(this->Tolerance >= 1e-5))
   {
-    if (!(this->Tolerance >= 1e-5))
-    {
-      return "the GPU's piecewise method takes a tolerance from 1e-5 to 1 (its transfer function "
-             "is held in float)";
-    }
+    return "the GPU's piecewise method takes a tolerance from 1e-5 to 1 (its transfer function "
+           "is held in float)";
   }
   const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
   const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
@@ -292,7 +340,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return "the image's spacing or the volume's matrix is degenerate";
   }
   this->Internals->Clip.Clear();
-  error = avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), this->Internals->Clip);
+  error =
+    avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), this->Internals->Clip);
   if (error.empty())
   {
     error = this->Internals->Clip.Validate();
@@ -358,7 +407,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   GLint vectors = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
   const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
-  if (static_cast<GLint>(needed) > vectors - ReservedUniformVectors)
+  // The shader's knot search takes 12 steps: at most 4096 piecewise pieces.
+  if (static_cast<GLint>(needed) > vectors - ReservedUniformVectors || piecewisePieces > 4096)
   {
     std::ostringstream message;
     message << "the transfer function has " << pieces << " pieces"
@@ -415,10 +465,11 @@ vtkDataArray* vtkOpenGLAdaptiveVolumeMapper::GetRenderedScalars()
 void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
 {
   vtkDataArray* scalars = this->GetRenderedScalars();
-  float texelScale = 1.0f, texelBias = 0.0f;
-  TexelToScalar(scalars->GetDataType(), texelScale, texelBias);
-  uniforms->SetUniformf("avos_texelScale", texelScale);
-  uniforms->SetUniformf("avos_texelBias", texelBias);
+  TexelMap texels;
+  TexelToScalar(scalars, texels);
+  uniforms->SetUniformf("avos_texelScale", texels.Scale);
+  uniforms->SetUniformf("avos_texelBias", texels.Bias);
+  uniforms->SetUniformi("avos_texelRound", texels.Round ? 1 : 0);
   const int* dims = vtkImageData::SafeDownCast(this->GetInput())->GetDimensions();
   const float dimensions[3] = { float(dims[0]), float(dims[1]), float(dims[2]) };
   uniforms->SetUniform3f("avos_dimensions", dimensions);
@@ -496,8 +547,7 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
     }
     internals.PiecewiseCount = count;
   }
-  std::vector<float> a(4 * count, 0.0f), b(4 * count, 0.0f), c(4 * count, 0.0f),
-    s(4 * count, 0.0f);
+  std::vector<float> a(4 * count, 0.0f), b(4 * count, 0.0f), c(4 * count, 0.0f), s(4 * count, 0.0f);
   for (int i = 0; i < count && piecewise; ++i)
   {
     const auto& p = pp[static_cast<std::size_t>(i)];

@@ -54,11 +54,16 @@
  * it; the ray starts at its kept part's entry (as VTK's mappers start a
  * clipped ray). The superclass builds its shader without them.
  *
- * Supported: one-component point scalars of type unsigned char, unsigned
- * short, float or double (double is uploaded as float by VTK), the blend
- * modes above, clipping planes, linear interpolation, 1D transfer functions
+ * Supported: one-component point scalars of every type VTK's GPU mapper
+ * uploads (8-, 16-, 32- and 64-bit integers, signed or not, float,
+ * double), read back exactly for 8- and 16-bit integers and for wider ones
+ * whose range spans at most 2^20 (within float's rounding of the range
+ * otherwise and for double, which VTK scales onto [0, 1] in float), the blend modes
+ * above, clipping planes, linear interpolation, 1D transfer functions
  * without shading. Refused with an error and nothing drawn (never ignored):
- * other scalar types, cell scalars, several components, other blend modes,
+ * signed 8- and 16-bit scalars that reach -128 or -32768 (VTK's normalised
+ * texture reads them as the next value up), other scalar types, cell
+ * scalars, several components, other blend modes,
  * cropping, more than 6 clipping planes or one with a transform, masks,
  * jittering, the depth pass, NATIVE transfer-function ranges, a
  * vtkMultiVolume's further inputs, shading, gradient opacity, 2D transfer functions,
@@ -155,10 +160,10 @@ public:
   /**
    * Adaptive methods: error tolerance eps per RGBA channel (default 0.01,
    * within (0, 1], the piecewise method's within [1e-5, 1]; a fifth of it
-   * bounds early termination, for Riemann too), initial, minimum and maximum step in voxel units (defaults 0.5,
-   * 0.1, 2, the paper's). Riemann: its step in voxel units (default 0.5).
-   * Every step lies in [0.001, 1000] with MinimumStep <= MaximumStep
-   * (checked at render time: a ray's work is bounded).
+   * bounds early termination, for Riemann too), initial, minimum and maximum step in voxel units
+   * (defaults 0.5, 0.1, 2, the paper's). Riemann: its step in voxel units (default 0.5). Every step
+   * lies in [0.001, 1000] with MinimumStep <= MaximumStep (checked at render time: a ray's work is
+   * bounded).
    */
   vtkSetMacro(Tolerance, double);
   vtkGetMacro(Tolerance, double);

@@ -13,10 +13,13 @@
 
 // ---------------------------------------------------------------- the field
 // Grid point value: the texel as uploaded by VTK (normalised for integer
-// types) mapped back to the data's scalar, exactly for 8- and 16-bit data.
+// types, scaled onto [0, 1] for 32- and 64-bit ones) mapped back to the
+// data's scalar (the mapper's TexelMap), rounded to the integer it was for
+// integer data: exact for them.
 float avos_texel(ivec3 p)
 {
-  return texelFetch(in_volume[0], p, 0).r * avos_texelScale + avos_texelBias;
+  float v = texelFetch(in_volume[0], p, 0).r * avos_texelScale + avos_texelBias;
+  return avos_texelRound != 0 ? round(v) : v;
 }
 
 // Positions: where the GPU has double precision (GL_ARB_gpu_shader_fp64,

@@ -390,8 +390,8 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
     // of the exact integral (the core's piecewise reference, 1e-10, on the
     // same rays and the same visible parts).
     an::PiecewiseTransferFunction<double> exact;
-    const std::string built = exact.Build(
-      tf, an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>()));
+    const std::string built =
+      exact.Build(tf, an::PiecewiseRelativeError(an::PiecewiseReferenceTolerance<double>()));
     mapper->SetIntegrationMethodToPiecewiseAdaptive();
     for (const double eps : { 1e-2, 1e-3, 1e-4 })
     {
@@ -415,8 +415,8 @@ bool Compare(const Case& c, vtkImageData* data, vtkRenderer* renderer, vtkRender
           continue;
         }
         const an::Interval<double> whole{ 0.0, rayLength[i] };
-        const an::RayResult<double> r = an::IntegratePiecewise(field, rayOrigin[i],
-          rayDirection[i], &whole, 1, exact, an::PiecewiseReferenceTolerance<double>());
+        const an::RayResult<double> r = an::IntegratePiecewise(field, rayOrigin[i], rayDirection[i],
+          &whole, 1, exact, an::PiecewiseReferenceTolerance<double>());
         for (int q = 0; q < 4; ++q)
         {
           worst[q] = std::max(worst[q], std::abs(double(gpu[q][i]) - r.RGBA[q]));

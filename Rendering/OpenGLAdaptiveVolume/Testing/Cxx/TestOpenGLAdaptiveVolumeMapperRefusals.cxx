@@ -8,6 +8,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkImageAppendComponents.h"
 #include "vtkImageCast.h"
+#include "vtkImageShiftScale.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
@@ -168,11 +169,14 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
       renderer->UseDepthPeelingForVolumesOn();
     },
     [&] { renderer->UseDepthPeelingOff(); });
-  vtkNew<vtkImageCast> toShort;
-  toShort->SetInputConnection(source->GetOutputPort());
-  toShort->SetOutputScalarTypeToShort();
+  vtkNew<vtkImageShiftScale> toShortMinimum; // [0, 1] -> [-40000, 0], clamped at -32768
+  toShortMinimum->SetInputConnection(source->GetOutputPort());
+  toShortMinimum->SetScale(-40000.0);
+  toShortMinimum->ClampOverflowOn();
+  toShortMinimum->SetOutputScalarTypeToShort();
   refused(
-    "short scalars", "vtkImageCast", [&] { mapper->SetInputConnection(toShort->GetOutputPort()); },
+    "short scalars reaching -32768", "reach -32768",
+    [&] { mapper->SetInputConnection(toShortMinimum->GetOutputPort()); },
     [&] { mapper->SetInputConnection(source->GetOutputPort()); });
   vtkNew<vtkPointDataToCellData> toCells;
   toCells->SetInputConnection(source->GetOutputPort());

@@ -4,15 +4,18 @@ mapper's on the same frame within the tolerance, for the coupled and
 decoupled strategies and the Riemann sum, and its maximum and minimum
 intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
-integral; clipping planes cut its rays where they cut the CPU mapper's; a
-bad tolerance is refused and draws nothing."""
+integral; clipping planes cut its rays where they cut the CPU mapper's; it
+reads signed, 32-bit and double scalars as the CPU mapper does; a bad
+tolerance is refused and draws nothing."""
 
 import avos
 from vtkmodules.test import Testing
+from vtkmodules import vtkCommonCore
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vtkPlane
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
                                          vtkVolume, vtkVolumeProperty)
+from vtkmodules.vtkImagingCore import vtkImageShiftScale
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
 
@@ -207,6 +210,42 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             worst, covered = self.gpuDifference(clipped(gpu), expected)
             self.assertGreater(covered, SIZE * SIZE // 16, name)
             self.assertLessEqual(worst, bound, name)
+
+    def testEveryScalarType(self):
+        # Signed 8- and 16-bit scalars (SNORM textures), 32-bit integers and
+        # double (scaled onto [0, 1] by VTK) read back exactly, or within
+        # float's rounding of the range for double: the piecewise method
+        # within eps of the CPU's at 1e-5 on the same values.
+        eps = 1e-3
+        for name, lo, hi in (("SIGNED_CHAR", -100.0, 100.0), ("SHORT", -1000.0, 1000.0),
+                             ("INT", -100000.0, 100000.0), ("DOUBLE", 0.0, 1000.0)):
+            scaled = vtkImageShiftScale()
+            scaled.SetInputConnection(self.source.GetOutputPort())
+            scaled.SetShift(lo / (hi - lo))
+            scaled.SetScale(hi - lo)
+            scaled.SetOutputScalarType(getattr(vtkCommonCore, "VTK_" + name))
+            self.source = scaled
+            color = vtkColorTransferFunction()
+            color.AddRGBPoint(lo, 0.1, 0.3, 1.0)
+            color.AddRGBPoint(hi, 1.0, 0.8, 0.2)
+            opacity = vtkPiecewiseFunction()
+            opacity.AddPoint(lo, 0.0)
+            opacity.AddPoint(0.5 * (lo + hi), 0.0)
+            opacity.AddPoint(hi, 0.4)
+            self.prop.SetColor(color)
+            self.prop.SetScalarOpacity(opacity)
+
+            def exact(cpu):
+                cpu.SetIntegrationMethodToPiecewiseAdaptive()
+                cpu.SetTolerance(1e-5)
+
+            def piecewise(gpu):
+                gpu.SetIntegrationMethodToPiecewiseAdaptive()
+                gpu.SetTolerance(eps)
+            worst, covered = self.gpuDifference(piecewise, self.cpuImage(exact))
+            self.assertGreater(covered, SIZE * SIZE // 8, name)
+            self.assertLessEqual(worst, eps - 1e-5, name)
+            self.setUp()
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
