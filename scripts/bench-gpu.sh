@@ -10,7 +10,8 @@
 # Prints a Markdown table; writes the references into the current folder.
 #   scripts/bench-gpu.sh [FRAMES] [WIDTHxHEIGHT]
 # AVOS_DATASETS: any of bonsai bluntfin foot engine (default all four);
-# AVOS_VIEWS: any of default oblique (default both).
+# AVOS_VIEWS: any of default oblique (default both); AVOS_GPU_METHODS: the
+# methods, ";"-separated (default the list below; the first is the baseline).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="$root/../shared/data"
@@ -25,6 +26,9 @@ methods=(
   "gpu-decoupled --tolerance 0.01" "gpu-decoupled --tolerance 0.001"
   "gpu-piecewise --tolerance 0.01" "gpu-piecewise --tolerance 0.001"
 )
+if [ -n "${AVOS_GPU_METHODS:-}" ]; then
+  IFS=';' read -r -a methods <<< "$AVOS_GPU_METHODS"
+fi
 
 echo "$size, median (min) of $frames frames, VTK's opacity model; error against the CPU mapper's"
 echo "reference (exact within 1e-9); % px: the largest over RGBA of the pixels above 0.01 / 0.001"
