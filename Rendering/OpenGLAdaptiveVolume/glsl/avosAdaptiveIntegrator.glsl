@@ -990,38 +990,46 @@ float avos_ppVisibleBefore(int i)
 
 // The root of q(u) = value in [a, b], where q - value changes sign (q
 // monotone there): Newton's steps kept inside the bracket, bisection where
-// one would leave it; at most 64 steps.
+// one would leave it, until the bracket or the step vanishes; at most 64
+// steps. The first 8 are written out (a crossing rarely needs more; llvmpipe
+// counts a loop's iterations against its limit, and a ray through noisy
+// data crosses knots thousands of times).
+#define AVOS_NEWTON_STEP                                                                           \
+  if (!done)                                                                                       \
+  {                                                                                                \
+    avos_real f = avos_at(q, u) - value;                                                           \
+    if (f == avos_real(0.0))                                                                       \
+    {                                                                                              \
+      done = true;                                                                                 \
+    }                                                                                              \
+    else                                                                                           \
+    {                                                                                              \
+      if ((f < avos_real(0.0)) == (fa < avos_real(0.0)))                                           \
+      {                                                                                            \
+        a = u;                                                                                     \
+        fa = f;                                                                                    \
+      }                                                                                            \
+      else                                                                                         \
+      {                                                                                            \
+        b = u;                                                                                     \
+      }                                                                                            \
+      avos_real slope = q.K[1] + u * (avos_real(2.0) * q.K[2] + u * avos_real(3.0) * q.K[3]);      \
+      avos_real next = slope != avos_real(0.0) ? u - f / slope : a;                                \
+      next = next > a && next < b ? next : avos_real(0.5) * (a + b);                               \
+      done = next == u || b - a <= avos_real(1e-15) * max(abs(a), abs(b));                         \
+      u = next;                                                                                    \
+    }                                                                                              \
+  }
 avos_real avos_crossing(avos_Cubic q, avos_real value, avos_real a, avos_real b)
 {
   avos_real fa = avos_at(q, a) - value;
   avos_real u = avos_real(0.5) * (a + b);
-  for (int i = 0; i < 64; ++i)
+  bool done = false;
+  AVOS_NEWTON_STEP AVOS_NEWTON_STEP AVOS_NEWTON_STEP AVOS_NEWTON_STEP
+  AVOS_NEWTON_STEP AVOS_NEWTON_STEP AVOS_NEWTON_STEP AVOS_NEWTON_STEP
+  for (int i = 8; i < 64 && !done; ++i)
   {
-    avos_real f = avos_at(q, u) - value;
-    if (f == avos_real(0.0))
-    {
-      return u;
-    }
-    if ((f < avos_real(0.0)) == (fa < avos_real(0.0)))
-    {
-      a = u;
-      fa = f;
-    }
-    else
-    {
-      b = u;
-    }
-    avos_real slope = q.K[1] + u * (avos_real(2.0) * q.K[2] + u * avos_real(3.0) * q.K[3]);
-    avos_real next = slope != avos_real(0.0) ? u - f / slope : a;
-    if (!(next > a && next < b))
-    {
-      next = avos_real(0.5) * (a + b);
-    }
-    if (next == u || b - a <= avos_real(1e-15) * max(abs(a), abs(b)))
-    {
-      return next;
-    }
-    u = next;
+    AVOS_NEWTON_STEP
   }
   return u;
 }
@@ -1307,71 +1315,97 @@ void avos_integratePiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_
   ray.Colour += c1 * (Ta * J);
 }
 
-// The cell's part [t0, t1] of the ray, cut at its cubic's extrema and knot
-// crossings, integrated piece by piece; false once the ray stops (early
-// termination at `bound` or a failed piece).
-bool avos_piecewiseCell(inout avos_PiecewiseRay ray, ivec3 cell, avos_real t0, avos_real t1,
-  avos_real bound)
+// Where the piecewise walk stands on a ray: the cell (its cubic Q from the
+// entry of its part, the corners' range, the ends of its monotone stretches
+// Ends[0..Stretches]), the stretch (its pieces First..Last of the transfer
+// function, in the order of u: rising or falling) and the next piece (Next
+// of them, from U).
+struct avos_PieceWalk
+{
+  avos_Cubic Q;
+  float Lo;
+  float Hi;
+  avos_real Ends[4];
+  int Stretches;
+  int Stretch;
+  bool Rising;
+  int First;
+  int Last;
+  int Next;
+  avos_real U;
+};
+
+// Starts the walk's next stretch (Stretch + 1): its end values and pieces.
+void avos_startStretch(inout avos_PieceWalk w)
+{
+  ++w.Stretch;
+  avos_real ua = w.Ends[w.Stretch];
+  avos_real ub = w.Ends[w.Stretch + 1];
+  avos_real sa = clamp(avos_at(w.Q, ua), avos_real(w.Lo), avos_real(w.Hi));
+  avos_real sb = clamp(avos_at(w.Q, ub), avos_real(w.Lo), avos_real(w.Hi));
+  w.Rising = sb >= sa;
+  w.First = avos_ppLocate(min(sa, sb));
+  w.Last = avos_ppLocate(max(sa, sb));
+  w.Next = 0;
+  w.U = ua;
+}
+
+// Starts the walk on a cell's part [t0, t1] of the ray: false when the
+// transfer function makes its corners' range transparent (or a corner is
+// not finite: the cell is undefined, empty).
+bool avos_startCell(inout avos_PieceWalk w, ivec3 cell, avos_real t0, avos_real t1)
 {
   float c[8];
   if (!avos_corners(cell, c))
   {
-    return true; // undefined: empty
+    return false;
   }
-  float lo = min(min(min(c[0], c[1]), min(c[2], c[3])), min(min(c[4], c[5]), min(c[6], c[7])));
-  float hi = max(max(max(c[0], c[1]), max(c[2], c[3])), max(max(c[4], c[5]), max(c[6], c[7])));
-  int first = avos_ppLocate(avos_real(lo));
-  int last = avos_ppLocate(avos_real(hi));
-  if (!(avos_ppB[last].y > avos_ppVisibleBefore(first)))
+  w.Lo = min(min(min(c[0], c[1]), min(c[2], c[3])), min(min(c[4], c[5]), min(c[6], c[7])));
+  w.Hi = max(max(max(c[0], c[1]), max(c[2], c[3])), max(max(c[4], c[5]), max(c[6], c[7])));
+  if (!(avos_ppB[avos_ppLocate(avos_real(w.Hi))].y >
+        avos_ppVisibleBefore(avos_ppLocate(avos_real(w.Lo)))))
   {
-    return true; // tau = 0 over the corners' range
+    return false;
   }
   ++avos_samples;
-  avos_Cubic q = avos_cellCubic(c, cell, t0);
+  w.Q = avos_cellCubic(c, cell, t0);
   avos_real extent = t1 - t0;
   avos_real roots[2];
-  int n = avos_extrema(q, extent, roots);
-  avos_real ends[4] = avos_real[4](avos_real(0.0), roots[0], roots[1], extent);
-  ends[n + 1] = extent;
-  for (int k = 0; k <= n; ++k)
-  {
-    // A monotone stretch [ua, ub]: its knot crossings in order along u.
-    avos_real ua = ends[k];
-    avos_real ub = ends[k + 1];
-    avos_real sa = clamp(avos_at(q, ua), avos_real(lo), avos_real(hi));
-    avos_real sb = clamp(avos_at(q, ub), avos_real(lo), avos_real(hi));
-    bool rising = sb >= sa;
-    int pa = avos_ppLocate(min(sa, sb));
-    int pb = avos_ppLocate(max(sa, sb));
-    avos_real u = ua;
-    for (int j = 0; j <= pb - pa; ++j)
-    {
-      // Pieces pa..pb, in the stretch's order; piece p ends where q
-      // crosses the next knot (the one after it rising, its own start
-      // falling).
-      int p = rising ? pa + j : pb - j;
-      avos_real next = ub;
-      if (j < pb - pa)
-      {
-        avos_real knot = avos_real(avos_ppA[rising ? p + 1 : p].x);
-        next = clamp(avos_crossing(q, knot, ua, ub), u, ub);
-      }
-      if (next > u)
-      {
-        avos_integratePiece(ray, q, p, u, next);
-        if (ray.Failed || ray.T <= bound)
-        {
-          return false;
-        }
-      }
-      u = next;
-    }
-  }
+  w.Stretches = avos_extrema(w.Q, extent, roots) + 1;
+  w.Ends = avos_real[4](avos_real(0.0), roots[0], roots[1], extent);
+  w.Ends[w.Stretches] = extent;
+  w.Stretch = -1;
+  avos_startStretch(w);
   return true;
 }
 
+// Integrates the stretch's next piece: from U to where q crosses the next
+// knot (after the piece's start rising, its own start falling), or to the
+// stretch's end.
+void avos_nextPiece(inout avos_PieceWalk w, inout avos_PiecewiseRay ray)
+{
+  int p = w.Rising ? w.First + w.Next : w.Last - w.Next;
+  avos_real ub = w.Ends[w.Stretch + 1];
+  avos_real end = ub;
+  if (w.Next < w.Last - w.First)
+  {
+    avos_real knot = avos_real(avos_ppA[w.Rising ? p + 1 : p].x);
+    end = clamp(avos_crossing(w.Q, knot, w.Ends[w.Stretch], ub), w.U, ub);
+  }
+  if (end > w.U)
+  {
+    avos_integratePiece(ray, w.Q, p, w.U, end);
+  }
+  w.U = end;
+  ++w.Next;
+}
+
 // The piecewise method over the visible parts of [0, D] (IntegratePiecewise
-// over the empty-space segments). Alpha < 0: a piece beyond its bound.
+// over the empty-space segments). One loop: each pass integrates a piece or
+// moves to the next stretch, cell or part, so the fragments of a SIMD group
+// (llvmpipe, GPU warps) iterate as long as their longest ray, not as long as
+// the sums of their nested loops (llvmpipe counts those against its limit).
+// Alpha < 0: a piece beyond its sub-interval bound.
 vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
 {
   avos_real L = avos_real(0.0);
@@ -1396,17 +1430,39 @@ vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
     ? avos_real(0.15) * avos_real(tolerance) / max(avos_real(1.0), avos_real(avos_maximumColour))
     : avos_real(-1.0);
   walk = avos_startWalk(D);
-  bool going = true;
-  while (going && avos_nextSegment(walk, D, begin, end))
+  avos_CellWalk cells = avos_startCells(avos_real(0.0), avos_real(0.0)); // none yet
+  avos_PieceWalk pieces;
+  bool inCell = false;
+  for (;;)
   {
-    avos_CellWalk cells = avos_startCells(begin, end);
+    if (inCell && pieces.Next <= pieces.Last - pieces.First)
+    {
+      avos_nextPiece(pieces, ray);
+      if (ray.Failed || ray.T <= bound)
+      {
+        break;
+      }
+      continue;
+    }
+    if (inCell && pieces.Stretch + 1 < pieces.Stretches)
+    {
+      avos_startStretch(pieces);
+      continue;
+    }
     ivec3 cell;
     avos_real t0;
     avos_real t1;
-    while (going && avos_nextCell(cells, cell, t0, t1))
+    if (avos_nextCell(cells, cell, t0, t1))
     {
-      going = avos_piecewiseCell(ray, cell, t0, t1, bound);
+      inCell = avos_startCell(pieces, cell, t0, t1);
+      continue;
     }
+    inCell = false;
+    if (!avos_nextSegment(walk, D, begin, end))
+    {
+      break;
+    }
+    cells = avos_startCells(begin, end);
   }
   if (ray.Failed)
   {
