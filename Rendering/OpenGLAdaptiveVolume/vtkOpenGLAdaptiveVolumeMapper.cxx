@@ -190,6 +190,21 @@ const char* vtkOpenGLAdaptiveVolumeMapper::GetIntegrationMethodAsString()
 std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   vtkRenderer* ren, vtkVolumeProperty* property)
 {
+  std::string problem = this->CheckInput();
+  if (problem.empty())
+  {
+    problem = this->CheckVTKSettings(ren);
+  }
+  if (problem.empty())
+  {
+    problem = this->CheckMethodSettings();
+  }
+  return problem.empty() ? avos::UnsupportedPropertySettings(property) : problem;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckInput()
+{
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   if (!input)
   {
@@ -208,12 +223,17 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
     return "cell scalars are not supported by the GPU mapper (its texture holds point scalars); "
            "vtkAdaptiveVolumeMapper renders them";
   }
-  TexelMap texels;
-  const std::string unreadable = TexelToScalar(scalars, texels);
-  if (!unreadable.empty())
+  if (this->GetInputCount() > 1)
   {
-    return unreadable;
+    return "a vtkMultiVolume's inputs beyond the first are not supported";
   }
+  TexelMap texels;
+  return TexelToScalar(scalars, texels);
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
+{
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
     this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
     this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND)
@@ -232,10 +252,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   if (this->MaskInput)
   {
     return "masks are not supported";
-  }
-  if (this->GetInputCount() > 1)
-  {
-    return "a vtkMultiVolume's inputs beyond the first are not supported";
   }
   if (this->UseJittering)
   {
@@ -262,6 +278,12 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     return "an ImageQuantity other than DEPTH needs RenderToImage with a float depth image";
   }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckMethodSettings()
+{
   if (!(this->Tolerance > 0.0 && this->Tolerance <= 1.0))
   {
     return "the tolerance must be in (0, 1]";
@@ -287,7 +309,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     return "the minimum step exceeds the maximum step";
   }
-  return avos::UnsupportedPropertySettings(property);
+  return std::string();
 }
 
 //------------------------------------------------------------------------------
@@ -350,6 +372,30 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   {
     return error;
   }
+  error = this->UpdateTransferFunction(property, gridToWorld, voxel);
+  if (!error.empty())
+  {
+    return error;
+  }
+  // The shader's rays assume what VTK's cameras give: a homogeneous w of the
+  // inverse projection that depends on the depth alone.
+  vtkNew<vtkMatrix4x4> ndcToWorld;
+  vtkMatrix4x4::Invert(ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+                         ren->GetTiledAspectRatio(), -1, 1),
+    ndcToWorld);
+  const double* w = ndcToWorld->GetData() + 12;
+  if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
+  {
+    return "the camera's projection is not a perspective or parallel one";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
+  vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld, double voxel)
+{
+  std::string error;
   vtkInternals& internals = *this->Internals;
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
   if (piecewise && !GLEW_ARB_gpu_shader_fp64)
@@ -416,17 +462,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
             << ": " << needed << " uniform vectors, more than this GPU's fragment uniforms hold ("
             << std::max(0, vectors - ReservedUniformVectors) << ")";
     return message.str();
-  }
-  // The shader's rays assume what VTK's cameras give: a homogeneous w of the
-  // inverse projection that depends on the depth alone.
-  vtkNew<vtkMatrix4x4> ndcToWorld;
-  vtkMatrix4x4::Invert(ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
-                         ren->GetTiledAspectRatio(), -1, 1),
-    ndcToWorld);
-  const double* w = ndcToWorld->GetData() + 12;
-  if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
-  {
-    return "the camera's projection is not a perspective or parallel one";
   }
   return std::string();
 }

@@ -32,14 +32,13 @@
  * closed form, the colour integral's one non-closed term J by the midpoint
  * of its bounds (second mean value theorem) or the power series of the
  * transmittance truncated within a proven bound (at most 16 terms a
- * sub-interval, where the CPU takes 40), early termination within 0.15 eps. VTK's colour
- * and opacity functions are converted as vtkAdaptiveVolumeMapper's piecewise
- * method converts them: within shares of eps where they are not piecewise
- * linear (other colour spaces, Hermite curves, log scales), the rays
- * integrated to the rest. Every channel of every pixel lies within eps (from
- * 1e-5 to 1) of the integral of VTK's transfer function as the shader's
- * float uniforms hold it (relative rounding 6e-8, which moves a pixel by
- * about 1e-7).
+ * sub-interval, where the CPU takes 40), early termination within 0.15
+ * eps. VTK's colour and opacity functions are converted as
+ * vtkAdaptiveVolumeMapper's piecewise method converts them: within shares
+ * of eps where they are not piecewise linear (other colour spaces, Hermite
+ * curves, log scales), the rays integrated to the rest. Every channel of every pixel lies within
+ * eps (from 1e-5 to 1) of the integral of VTK's transfer function as the shader's float uniforms
+ * hold it (relative rounding 6e-8, which moves a pixel by about 1e-7).
  *
  * Blend modes: composite (the integral), and the maximum and minimum
  * intensity projections, exact as vtkAdaptiveVolumeMapper's: the extremum of
@@ -58,16 +57,16 @@
  * uploads (8-, 16-, 32- and 64-bit integers, signed or not, float,
  * double), read back exactly for 8- and 16-bit integers and for wider ones
  * whose range spans at most 2^20 (within float's rounding of the range
- * otherwise and for double, which VTK scales onto [0, 1] in float), the blend modes
- * above, clipping planes, linear interpolation, 1D transfer functions
- * without shading. Refused with an error and nothing drawn (never ignored):
- * signed 8- and 16-bit scalars that reach -128 or -32768 (VTK's normalised
- * texture reads them as the next value up), other scalar types, cell
- * scalars, several components, other blend modes,
- * cropping, more than 6 clipping planes or one with a transform, masks,
- * jittering, the depth pass, NATIVE transfer-function ranges, a
- * vtkMultiVolume's further inputs, shading, gradient opacity, 2D transfer functions,
- * dual depth peeling of volumes, invalid tolerances or steps, transfer
+ * otherwise and for double, which VTK scales onto [0, 1] in float), the
+ * blend modes above, clipping planes, linear interpolation, 1D transfer
+ * functions without shading. Refused with an error and nothing drawn (never
+ * ignored): signed 8- and 16-bit scalars that reach -128 or -32768 (VTK's
+ * normalised texture reads them as the next value up), other scalar types,
+ * cell scalars, several components, other blend modes, cropping, more than
+ * 6 clipping planes or one with a transform, masks, jittering, the depth
+ * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
+ * shading, gradient opacity, 2D transfer functions, dual depth peeling of
+ * volumes, invalid tolerances or steps, transfer
  * functions with more pieces than the GPU's uniform storage holds.
  *
  * Empty space is skipped exactly: blocks of 4^3 cells whose value range
@@ -160,9 +159,10 @@ public:
   /**
    * Adaptive methods: error tolerance eps per RGBA channel (default 0.01,
    * within (0, 1], the piecewise method's within [1e-5, 1]; a fifth of it
-   * bounds early termination, for Riemann too), initial, minimum and maximum step in voxel units
-   * (defaults 0.5, 0.1, 2, the paper's). Riemann: its step in voxel units (default 0.5). Every step
-   * lies in [0.001, 1000] with MinimumStep <= MaximumStep (checked at render time: a ray's work is
+   * bounds early termination, for Riemann too), initial, minimum and maximum
+   * step in voxel units (defaults 0.5, 0.1, 2, the paper's). Riemann: its
+   * step in voxel units (default 0.5). Every step lies in [0.001, 1000] with
+   * MinimumStep <= MaximumStep (checked at render time: a ray's work is
    * bounded).
    */
   vtkSetMacro(Tolerance, double);
@@ -209,7 +209,7 @@ public:
     ALPHA,
     RAY_ENTRY,  // voxel units from the near plane to the box (-1: the ray misses it)
     RAY_LENGTH, // voxel units inside the box, up to the depth buffer
-    SAMPLES     // transfer-function evaluations of the ray (projections: cells examined)
+    SAMPLES     // transfer-function evaluations (projections, piecewise: cells examined)
   };
 
   ///@{
@@ -259,9 +259,10 @@ protected:
   /**
    * The stages of GPURender, in the order data flows: the frame checked and
    * prepared (CheckRenderable, the grid-to-world matrix and the voxel size,
-   * the transfer function rebuilt when the property changed, the piecewise
-   * method's pieces when it or the tolerance did; an error message or
-   * empty), the shader's replacements, the uniforms of the volume, of the
+   * the clipping planes, then UpdateTransferFunction: the transfer function
+   * rebuilt when the property changed, the piecewise method's pieces when it
+   * or the tolerance did, their uniforms' room; an error message or empty),
+   * the shader's replacements, the uniforms of the volume, of the
    * transfer function's pieces (and the piecewise method's) and of the
    * method, the
    * empty-space blocks' texture (uploaded when the ranges or the transfer
@@ -269,6 +270,8 @@ protected:
    */
   std::string PrepareFrame(
     vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
+  std::string UpdateTransferFunction(
+    vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld, double voxel);
   void AddShaderReplacements(vtkOpenGLShaderProperty* shaderProperty);
   void SetVolumeUniforms(vtkUniforms* uniforms);
   void SetPieceUniforms(vtkUniforms* uniforms);
@@ -277,6 +280,19 @@ protected:
   void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
   void SetRayUniforms(
     vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);
+  ///@}
+
+  ///@{
+  /**
+   * CheckRenderable's parts: the input (image data, point scalars of one
+   * component in a type the shader reads), VTK's mapper settings (blend
+   * mode, cropping, planes, masks, jittering, depth pass, range types, depth
+   * peeling, the image quantity), the method's (tolerance, steps). Each
+   * returns why not, or an empty string.
+   */
+  std::string CheckInput();
+  std::string CheckVTKSettings(vtkRenderer* ren);
+  std::string CheckMethodSettings();
   ///@}
 
   /**
