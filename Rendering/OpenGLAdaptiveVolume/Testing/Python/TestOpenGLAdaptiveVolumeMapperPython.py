@@ -132,6 +132,20 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.assertEqual(warnings, [])
         return worst, covered
 
+    def assertPiecewiseWithinEps(self, eps, message=None):
+        """The GPU's piecewise method at eps within eps - 1e-5 of the CPU's at
+        1e-5 (itself within 1e-5 of the exact integral) on every pixel."""
+        def exact(cpu):
+            cpu.SetIntegrationMethodToPiecewiseAdaptive()
+            cpu.SetTolerance(1e-5)
+
+        def piecewise(gpu):
+            gpu.SetIntegrationMethodToPiecewiseAdaptive()
+            gpu.SetTolerance(eps)
+        worst, covered = self.gpuDifference(piecewise, self.cpuImage(exact))
+        self.assertGreater(covered, SIZE * SIZE // 8, message)
+        self.assertLessEqual(worst, eps - 1e-5, message)
+
     def testProjectionsAgreeWithTheCPUMapper(self):
         # Both mappers' projections are exact (the extremum of the trilinear
         # field along the ray): the GPU's float RGBA within 1e-5 of the
@@ -159,18 +173,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         opacity.AddPoint(1.0, 0.5)
         self.prop.SetColor(color)
         self.prop.SetScalarOpacity(opacity)
-        eps = 1e-3
-
-        def exact(cpu):
-            cpu.SetIntegrationMethodToPiecewiseAdaptive()
-            cpu.SetTolerance(1e-5)
-
-        def piecewise(gpu):
-            gpu.SetIntegrationMethodToPiecewiseAdaptive()
-            gpu.SetTolerance(eps)
-        worst, covered = self.gpuDifference(piecewise, self.cpuImage(exact))
-        self.assertGreater(covered, SIZE * SIZE // 8)
-        self.assertLessEqual(worst, eps - 1e-5)
+        self.assertPiecewiseWithinEps(1e-3)
 
     def testClippingPlanesAsTheCPUMapper(self):
         # Two planes cut every ray where the CPU mapper cuts it: the
@@ -216,7 +219,6 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         # double (scaled onto [0, 1] by VTK) read back exactly, or within
         # float's rounding of the range for double: the piecewise method
         # within eps of the CPU's at 1e-5 on the same values.
-        eps = 1e-3
         for name, lo, hi in (("SIGNED_CHAR", -100.0, 100.0), ("SHORT", -1000.0, 1000.0),
                              ("INT", -100000.0, 100000.0), ("DOUBLE", 0.0, 1000.0)):
             scaled = vtkImageShiftScale()
@@ -234,17 +236,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             opacity.AddPoint(hi, 0.4)
             self.prop.SetColor(color)
             self.prop.SetScalarOpacity(opacity)
-
-            def exact(cpu):
-                cpu.SetIntegrationMethodToPiecewiseAdaptive()
-                cpu.SetTolerance(1e-5)
-
-            def piecewise(gpu):
-                gpu.SetIntegrationMethodToPiecewiseAdaptive()
-                gpu.SetTolerance(eps)
-            worst, covered = self.gpuDifference(piecewise, self.cpuImage(exact))
-            self.assertGreater(covered, SIZE * SIZE // 8, name)
-            self.assertLessEqual(worst, eps - 1e-5, name)
+            self.assertPiecewiseWithinEps(1e-3, name)
             self.setUp()
 
     def testRefusesABadTolerance(self):
