@@ -11,6 +11,7 @@
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -138,6 +139,7 @@ public:
   double TFVoxel = 0.0;
   avos::ConversionBudget Conversion;       // what the conversion took (the piecewise method's)
   avos::numerics::ClipRegion<double> Clip; // the clipping planes in grid coordinates
+  double CropPlanes[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }; // the same of cropping
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
@@ -243,7 +245,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
   }
   if (this->Cropping)
   {
-    return "cropping is not supported";
+    vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+    const double* spacing = input->GetSpacing();
+    if (!input->GetDirectionMatrix()->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 ||
+      spacing[2] < 0.0)
+    {
+      return "cropping needs an input with positive spacing and no direction matrix (its region "
+             "planes are in the volume's axis-aligned coordinates)";
+    }
   }
   if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > MaximumClippingPlanes)
   {
@@ -336,11 +345,14 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   // ours replaces (its projections would overwrite our colour after the
   // loop, its clipping discard fragments by its own rounding).
   const int blendMode = this->BlendMode;
+  const vtkTypeBool cropping = this->Cropping;
   vtkSmartPointer<vtkPlaneCollection> planes = this->ClippingPlanes;
   this->BlendMode = vtkVolumeMapper::COMPOSITE_BLEND;
+  this->Cropping = 0;
   this->ClippingPlanes = nullptr;
   this->Superclass::GPURender(ren, vol);
   this->BlendMode = blendMode;
+  this->Cropping = cropping;
   this->ClippingPlanes = planes;
   this->Internals->Blocks->Deactivate();
 }
@@ -364,6 +376,20 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   this->Internals->Clip.Clear();
   error =
     avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), this->Internals->Clip);
+  if (this->Cropping)
+  {
+    // The region planes in grid coordinates, as the CPU mapper places them.
+    const double* origin = input->GetOrigin();
+    const double* spacing = input->GetSpacing();
+    const int* extent = input->GetExtent();
+    for (int c = 0; c < 6; ++c)
+    {
+      const int a = c / 2;
+      this->Internals->CropPlanes[c] =
+        (this->CroppingRegionPlanes[c] - origin[a]) / spacing[a] - extent[2 * a];
+    }
+    this->Internals->Clip.SetCropping(this->Internals->CropPlanes, this->CroppingRegionFlags);
+  }
   if (error.empty())
   {
     error = this->Internals->Clip.Validate();
@@ -770,6 +796,20 @@ void vtkOpenGLAdaptiveVolumeMapper::SetRayUniforms(
   uniforms->SetUniform4fv("avos_clipPlanes", MaximumClippingPlanes, clip[0]);
   uniforms->SetUniform4fv("avos_clipPlanesLo", MaximumClippingPlanes, clip[1]);
   uniforms->SetUniformi("avos_clipPlaneCount", static_cast<int>(planes.size()));
+
+  // Cropping: the region planes in grid coordinates and the 27 regions'
+  // flags.
+  float crop[2][2][3]; // [min, max][hi, lo][axis]
+  for (int c = 0; c < 6; ++c)
+  {
+    Split(this->Internals->CropPlanes[c], crop[c % 2][0][c / 2], crop[c % 2][1][c / 2]);
+  }
+  uniforms->SetUniformi("avos_cropping", this->Cropping ? 1 : 0);
+  uniforms->SetUniformi("avos_cropFlags", this->CroppingRegionFlags);
+  uniforms->SetUniform3f("avos_cropMin", crop[0][0]);
+  uniforms->SetUniform3f("avos_cropMinLo", crop[0][1]);
+  uniforms->SetUniform3f("avos_cropMax", crop[1][0]);
+  uniforms->SetUniform3f("avos_cropMaxLo", crop[1][1]);
 }
 
 //------------------------------------------------------------------------------

@@ -49,25 +49,27 @@
  * extremum of samples and misses peaks between them.
  *
  * Clipping planes (up to 6, world coordinates, each keeping the side its
- * normal points to) cut every ray exactly where vtkAdaptiveVolumeMapper cuts
- * it; the ray starts at its kept part's entry (as VTK's mappers start a
- * clipped ray). The superclass builds its shader without them.
+ * normal points to) and cropping (VTK's 27 regions and flags) cut every ray
+ * exactly where vtkAdaptiveVolumeMapper cuts it; the Riemann sum starts
+ * again at each kept part's entry (as VTK's mappers start a clipped ray).
+ * The superclass builds its shader without them.
  *
  * Supported: one-component point scalars of every type VTK's GPU mapper
  * uploads (8-, 16-, 32- and 64-bit integers, signed or not, float,
  * double), read back exactly for 8- and 16-bit integers and for wider ones
  * whose range spans at most 2^20 (within float's rounding of the range
  * otherwise and for double, which VTK scales onto [0, 1] in float), the
- * blend modes above, clipping planes, linear interpolation, 1D transfer
- * functions without shading. Refused with an error and nothing drawn (never
- * ignored): signed 8- and 16-bit scalars that reach -128 or -32768 (VTK's
- * normalised texture reads them as the next value up), other scalar types,
- * cell scalars, several components, other blend modes, cropping, more than
+ * blend modes above, clipping planes, cropping, linear interpolation, 1D
+ * transfer functions without shading. Refused with an error and nothing
+ * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
+ * -32768 (VTK's normalised texture reads them as the next value up), other
+ * scalar types, cell scalars, several components, other blend modes,
+ * cropping an input with a direction matrix or negative spacing, more than
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
  * shading, gradient opacity, 2D transfer functions, dual depth peeling of
- * volumes, invalid tolerances or steps, transfer
- * functions with more pieces than the GPU's uniform storage holds.
+ * volumes, invalid tolerances or steps, transfer functions with more pieces
+ * than the GPU's uniform storage holds.
  *
  * Empty space is skipped exactly: blocks of 4^3 cells whose value range
  * the transfer function maps to zero opacity are left out of every ray (a

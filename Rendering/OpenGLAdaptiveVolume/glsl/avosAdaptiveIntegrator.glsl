@@ -235,7 +235,17 @@ struct avos_Walk
   avos_real T;      // t where the walk enters the current block
   int Left;         // blocks the walk may still visit
   bool Done;
+  // avos_nextPart's state: the visible part taken from the blocks' walk
+  // and the kept part (of avos_kept) it is cut by.
+  avos_real2 Visible;
+  bool HasVisible;
+  int Kept;
 };
+
+// The kept parts of the ray (cropping: at most 7, sorted, disjoint; else
+// [0, D]), set by avos_setUpRay.
+avos_real2 avos_kept[7];
+int avos_keptCount;
 
 avos_Walk avos_startWalk(avos_real D)
 {
@@ -255,6 +265,9 @@ avos_Walk avos_startWalk(avos_real D)
   w.T = avos_real(0.0);
   w.Left = avos_skipping != 0 ? blocks.x + blocks.y + blocks.z + 1 : 0;
   w.Done = !(D > avos_real(0.0));
+  w.Visible = avos_real2(0.0);
+  w.HasVisible = false;
+  w.Kept = 0;
   return w;
 }
 
@@ -300,33 +313,86 @@ bool avos_nextSegment(inout avos_Walk w, avos_real D, out avos_real begin, out a
   return open;
 }
 
-// The core's IntegrateRiemann (exponential form) over the visible parts:
-// samples at min(i h, D) that lie inside them.
+// The next visible and kept part [begin, end] of [0, D]: the blocks' parts
+// (avos_nextSegment) cut by the kept parts (numerics::ClipRegion::
+// Intersect), `part` the kept part it lies in; false when none is left.
+bool avos_nextPart(inout avos_Walk w, avos_real D, out avos_real begin, out avos_real end,
+  out int part)
+{
+  begin = avos_real(0.0);
+  end = avos_real(0.0);
+  part = w.Kept;
+  while (w.Kept < avos_keptCount)
+  {
+    if (!w.HasVisible)
+    {
+      if (!avos_nextSegment(w, D, w.Visible.x, w.Visible.y))
+      {
+        return false;
+      }
+      w.HasVisible = true;
+    }
+    avos_real2 kept = avos_kept[w.Kept];
+    begin = max(w.Visible.x, kept.x);
+    end = min(w.Visible.y, kept.y);
+    part = w.Kept;
+    if (w.Visible.y < kept.y)
+    {
+      w.HasVisible = false;
+    }
+    else
+    {
+      ++w.Kept;
+    }
+    if (begin < end)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The core's IntegrateRiemann (exponential form) over the visible parts,
+// each kept part its own ray from its entry (vtkAdaptiveVolumeMapper's
+// ClippedRiemann: as VTK's mappers start a clipped ray): samples at
+// entry + min(i h, its length) that lie inside the visible parts.
 vec4 avos_riemann(avos_real D, float h, float bound)
 {
   vec3 colour = vec3(0.0);
   float T = 1.0;
-  int n = int(ceil(D / avos_real(h)));
-  int next = 1; // the first sample index not yet taken
   avos_Walk walk = avos_startWalk(D);
+  int kept = -1;                  // the kept part being sampled
+  avos_real base = avos_real(0.0); // its entry
+  avos_real length = avos_real(0.0);
+  int n = 0;
+  int next = 1; // the first sample index not yet taken
   bool inside = false; // a part has been taken
   avos_real begin;
   avos_real end;
   // One loop (see avos_adaptive): each pass takes a sample or the next part.
-  while (next <= n)
+  for (;;)
   {
-    avos_real t1 = next == n ? D : min(avos_real(next) * avos_real(h), D);
-    if (!inside || t1 > end)
+    avos_real t1 = next >= n ? base + length : base + min(avos_real(next) * avos_real(h), length);
+    if (!inside || next > n || t1 > end)
     {
-      if (!avos_nextSegment(walk, D, begin, end))
+      int part;
+      if (!avos_nextPart(walk, D, begin, end, part))
       {
         break;
       }
       inside = true;
-      next = max(max(next, int(ceil(begin / avos_real(h)))), 1);
+      if (part != kept)
+      {
+        kept = part;
+        base = avos_kept[part].x;
+        length = avos_kept[part].y - base;
+        n = int(ceil(length / avos_real(h)));
+        next = 1;
+      }
+      next = max(max(next, int(ceil((begin - base) / avos_real(h)))), 1);
       continue;
     }
-    float dt = float(t1 - avos_real(next - 1) * avos_real(h));
+    float dt = float(t1 - base - avos_real(next - 1) * avos_real(h));
     avos_Sample s = avos_sample(t1);
     float a = avos_oneMinusExp(s.Tau * dt);
     colour += T * a * s.Colour;
@@ -506,7 +572,8 @@ vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
   avos_real begin;
   avos_real end;
   avos_Walk walk = avos_startWalk(D);
-  while (avos_nextSegment(walk, D, begin, end))
+  int kept; // unused: every visible and kept part alike
+  while (avos_nextPart(walk, D, begin, end, kept))
   {
     L += end - begin;
     lastEnd = end;
@@ -541,7 +608,7 @@ vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
     if (!(t < last))
     {
       avos_real first;
-      if (part == parts || !avos_nextSegment(walk, D, first, last))
+      if (part == parts || !avos_nextPart(walk, D, first, last, kept))
       {
         break;
       }
@@ -849,19 +916,29 @@ int avos_extrema(avos_Cubic q, avos_real extent, out avos_real roots[2])
 // cubic, whose extremum over the cell's part of the ray lies at an end or
 // at a root of its derivative. A cell whose corners cannot beat the best
 // value so far is passed over without its cubic, one with a non-finite
-// corner too. Every cell is walked: the blocks' visibility is the composite
-// integral's, not the projections'. `side` 1 for the maximum, -1 for the
+// corner too. Every cell of the kept parts is walked: the blocks'
+// visibility is the composite integral's, not the projections'. `side` 1 for the maximum, -1 for the
 // minimum; false when no finite cell lies on the ray.
 bool avos_extremum(avos_real D, float side, out avos_real value)
 {
   avos_real best = avos_real(-3.0e38);
   bool found = false;
-  avos_CellWalk walk = avos_startCells(avos_real(0.0), D);
+  int kept = 0;
+  avos_CellWalk walk = avos_startCells(avos_kept[0].x, avos_kept[0].y);
   ivec3 cell;
   avos_real t0;
   avos_real t1;
-  while (avos_nextCell(walk, cell, t0, t1))
+  for (;;)
   {
+    if (!avos_nextCell(walk, cell, t0, t1))
+    {
+      if (++kept >= avos_keptCount)
+      {
+        break;
+      }
+      walk = avos_startCells(avos_kept[kept].x, avos_kept[kept].y);
+      continue;
+    }
     float c[8];
     if (!avos_corners(cell, c))
     {
@@ -1412,7 +1489,8 @@ vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
   avos_real begin;
   avos_real end;
   avos_Walk walk = avos_startWalk(D);
-  while (avos_nextSegment(walk, D, begin, end))
+  int kept; // unused: every visible and kept part alike
+  while (avos_nextPart(walk, D, begin, end, kept))
   {
     L += end - begin;
   }
@@ -1458,7 +1536,7 @@ vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
       continue;
     }
     inCell = false;
-    if (!avos_nextSegment(walk, D, begin, end))
+    if (!avos_nextPart(walk, D, begin, end, kept))
     {
       break;
     }
@@ -1503,6 +1581,77 @@ avos_real avos_join(float hi, float lo)
 avos_real3 avos_join(vec3 hi, vec3 lo)
 {
   return avos_real3(hi) + avos_real3(lo);
+}
+
+// The kept parts of [0, avos_rayExtent] (numerics::ClipRegion::Kept's
+// cropping): the ray cut where it crosses the six cropping planes (grid
+// coordinates), each piece kept when the region of its middle is one of
+// avos_cropFlags' 27, adjacent kept pieces merged.
+void avos_keepParts()
+{
+  avos_real D = avos_rayExtent;
+  avos_keptCount = 1;
+  avos_kept[0] = avos_real2(avos_real(0.0), D);
+  if (avos_cropping == 0)
+  {
+    return;
+  }
+  avos_real3 lo = avos_join(avos_cropMin, avos_cropMinLo);
+  avos_real3 hi = avos_join(avos_cropMax, avos_cropMaxLo);
+  // The crossings of the six planes inside (0, D), the others moved to D
+  // (empty pieces), sorted by a network of compare-exchanges on scalars
+  // (an insertion sort of an fp64 array lost values on llvmpipe).
+  avos_real c[6];
+  for (int a = 0; a < 3; ++a)
+  {
+    avos_real d = avos_rayDirection[a];
+    avos_real tl = d != avos_real(0.0) ? (lo[a] - avos_rayOrigin[a]) / d : D;
+    avos_real th = d != avos_real(0.0) ? (hi[a] - avos_rayOrigin[a]) / d : D;
+    c[2 * a] = tl > avos_real(0.0) && tl < D ? tl : D;
+    c[2 * a + 1] = th > avos_real(0.0) && th < D ? th : D;
+  }
+  avos_real c0 = c[0];
+  avos_real c1 = c[1];
+  avos_real c2 = c[2];
+  avos_real c3 = c[3];
+  avos_real c4 = c[4];
+  avos_real c5 = c[5];
+  avos_real x;
+#define AVOS_ORDER(p, q)                                                                           \
+  x = min(p, q);                                                                                   \
+  q = max(p, q);                                                                                   \
+  p = x;
+  AVOS_ORDER(c0, c5) AVOS_ORDER(c1, c3) AVOS_ORDER(c2, c4) AVOS_ORDER(c1, c2) AVOS_ORDER(c3, c4)
+  AVOS_ORDER(c0, c3) AVOS_ORDER(c2, c5) AVOS_ORDER(c0, c1) AVOS_ORDER(c2, c3) AVOS_ORDER(c4, c5)
+  AVOS_ORDER(c1, c2) AVOS_ORDER(c3, c4)
+  avos_real cuts[8] = avos_real[8](avos_real(0.0), c0, c1, c2, c3, c4, c5, D);
+  int n = 8;
+  avos_keptCount = 0;
+  for (int i = 0; i + 1 < n; ++i)
+  {
+    avos_real a = cuts[i];
+    avos_real b = cuts[i + 1];
+    avos_real3 p = avos_rayOrigin + (avos_real(0.5) * (a + b)) * avos_rayDirection;
+    int region = 0;
+    int weight = 1;
+    for (int k = 0; k < 3; ++k)
+    {
+      region += (p[k] < lo[k] ? 0 : (p[k] > hi[k] ? 2 : 1)) * weight;
+      weight *= 3;
+    }
+    if (!(b > a) || ((avos_cropFlags >> region) & 1) == 0)
+    {
+      continue;
+    }
+    if (avos_keptCount > 0 && avos_kept[avos_keptCount - 1].y >= a)
+    {
+      avos_kept[avos_keptCount - 1].y = b; // adjacent kept regions: one part
+    }
+    else
+    {
+      avos_kept[avos_keptCount++] = avos_real2(a, b);
+    }
+  }
 }
 
 // The ray through this fragment's pixel centre from the near plane to the
@@ -1589,7 +1738,8 @@ bool avos_setUpRay()
   avos_rayEntry = float(tc + u0);
   avos_rayExtent = u1 - u0;
   avos_rayLength = float(avos_rayExtent);
-  return true;
+  avos_keepParts();
+  return avos_keptCount > 0;
 }
 
 vec4 avos_result;

@@ -20,6 +20,8 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
+#include <cmath>
+
 #include <functional>
 
 namespace
@@ -120,7 +122,13 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     "the average intensity blend", "composite", [&] { mapper->SetBlendModeToAverageIntensity(); },
     [&] { mapper->SetBlendModeToComposite(); });
   refused(
-    "cropping", "cropping", [&] { mapper->CroppingOn(); }, [&] { mapper->CroppingOff(); });
+    "a cropping plane that is not finite", "cropping region planes",
+    [&]
+    {
+      mapper->CroppingOn();
+      mapper->SetCroppingRegionPlanes(std::nan(""), 0.5, -1.0, 1.0, -1.0, 1.0);
+    },
+    [&] { mapper->CroppingOff(); });
   refused(
     "jittering", "UseJittering", [&] { mapper->UseJitteringOn(); },
     [&] { mapper->UseJitteringOff(); });
