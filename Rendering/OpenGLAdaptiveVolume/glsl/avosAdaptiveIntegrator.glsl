@@ -352,6 +352,26 @@ bool avos_nextPart(inout avos_Walk w, avos_real D, out avos_real begin, out avos
   return false;
 }
 
+// The total length of the visible and kept parts of [0, D], where the last
+// ends and how many there are.
+avos_real avos_visibleLength(avos_real D, out avos_real lastEnd, out int parts)
+{
+  avos_real L = avos_real(0.0);
+  lastEnd = avos_real(0.0);
+  parts = 0;
+  avos_real begin;
+  avos_real end;
+  int kept;
+  avos_Walk walk = avos_startWalk(D);
+  while (avos_nextPart(walk, D, begin, end, kept))
+  {
+    L += end - begin;
+    lastEnd = end;
+    ++parts;
+  }
+  return L;
+}
+
 // The core's IntegrateRiemann (exponential form) over the visible parts,
 // each kept part its own ray from its entry (vtkAdaptiveVolumeMapper's
 // ClippedRiemann: as VTK's mappers start a clipped ray): samples at
@@ -566,19 +586,13 @@ int avos_attempts; // accepted and rejected steps of this ray
 // RayIntegrators.h; kept as a guard that reports instead of hanging).
 vec4 avos_adaptive(avos_real D, bool coupled, float terminationDepth)
 {
-  avos_real L = avos_real(0.0);
-  avos_real lastEnd = avos_real(0.0);
-  int parts = 0;
+  avos_real lastEnd;
+  int parts;
+  avos_real L = avos_visibleLength(D, lastEnd, parts);
   avos_real begin;
   avos_real end;
-  avos_Walk walk = avos_startWalk(D);
   int kept; // unused: every visible and kept part alike
-  while (avos_nextPart(walk, D, begin, end, kept))
-  {
-    L += end - begin;
-    lastEnd = end;
-    ++parts;
-  }
+  avos_Walk walk;
   if (!(L > avos_real(0.0)))
   {
     return vec4(0.0);
@@ -1485,15 +1499,9 @@ void avos_nextPiece(inout avos_PieceWalk w, inout avos_PiecewiseRay ray)
 // Alpha < 0: a piece beyond its sub-interval bound.
 vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
 {
-  avos_real L = avos_real(0.0);
-  avos_real begin;
-  avos_real end;
-  avos_Walk walk = avos_startWalk(D);
-  int kept; // unused: every visible and kept part alike
-  while (avos_nextPart(walk, D, begin, end, kept))
-  {
-    L += end - begin;
-  }
+  avos_real lastEnd;
+  int parts;
+  avos_real L = avos_visibleLength(D, lastEnd, parts);
   if (!(L > avos_real(0.0)))
   {
     return vec4(0.0);
@@ -1507,7 +1515,10 @@ vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
   avos_real bound = earlyTermination
     ? avos_real(0.15) * avos_real(tolerance) / max(avos_real(1.0), avos_real(avos_maximumColour))
     : avos_real(-1.0);
-  walk = avos_startWalk(D);
+  avos_Walk walk = avos_startWalk(D);
+  avos_real begin;
+  avos_real end;
+  int kept; // unused: every visible and kept part alike
   avos_CellWalk cells = avos_startCells(avos_real(0.0), avos_real(0.0)); // none yet
   avos_PieceWalk pieces;
   bool inCell = false;
