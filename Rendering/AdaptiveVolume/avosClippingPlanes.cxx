@@ -1,7 +1,10 @@
 #include "avosClippingPlanes.h"
 
+#include "vtkImageData.h"
+#include "vtkMatrix3x3.h"
 #include "vtkPlane.h"
 #include "vtkPlaneCollection.h"
+#include "vtkVolumeMapper.h"
 
 std::string avos::AddClippingPlanes(vtkPlaneCollection* planes, const double gridToWorld[16],
   avos::numerics::ClipRegion<double>& clip)
@@ -36,4 +39,37 @@ std::string avos::AddClippingPlanes(vtkPlaneCollection* planes, const double gri
     clip.AddPlane(normal, offset);
   }
   return std::string();
+}
+
+std::string avos::ClipRegionOfMapper(vtkVolumeMapper* mapper, vtkImageData* input,
+  const double gridToWorld[16], avos::numerics::ClipRegion<double>& clip)
+{
+  clip = avos::numerics::ClipRegion<double>();
+  const std::string planesError = AddClippingPlanes(mapper->GetClippingPlanes(), gridToWorld, clip);
+  if (!planesError.empty())
+  {
+    return planesError;
+  }
+  if (mapper->GetCropping())
+  {
+    const double* spacing = input->GetSpacing();
+    if (!input->GetDirectionMatrix()->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 ||
+      spacing[2] < 0.0)
+    {
+      return "Cropping needs an input with positive spacing and no direction matrix (its region "
+             "planes are in the volume's axis-aligned coordinates)";
+    }
+    const double* origin = input->GetOrigin();
+    const int* extent = input->GetExtent();
+    const double* region = mapper->GetCroppingRegionPlanes();
+    double planes[6];
+    for (int c = 0; c < 6; ++c)
+    {
+      const int a = c / 2;
+      planes[c] = (region[c] - origin[a]) / spacing[a] - extent[2 * a];
+    }
+    clip.SetCropping(planes, mapper->GetCroppingRegionFlags());
+  }
+  const std::string unusable = clip.Validate();
+  return unusable.empty() ? unusable : "Unusable clipping or cropping: " + unusable;
 }

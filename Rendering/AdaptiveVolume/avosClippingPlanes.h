@@ -10,7 +10,9 @@
 
 #include <string> // For std::string
 
+class vtkImageData;
 class vtkPlaneCollection;
+class vtkVolumeMapper;
 
 namespace avos
 {
@@ -22,6 +24,18 @@ namespace avos
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string AddClippingPlanes(vtkPlaneCollection* planes,
   const double gridToWorld[16], avos::numerics::ClipRegion<double>& clip);
+
+/**
+ * `clip` (replaced) = what `mapper` cuts off the image `input`, in its grid
+ * coordinates under `gridToWorld`: its clipping planes (AddClippingPlanes)
+ * and, when on, its cropping (VTK's region planes in the volume's
+ * coordinates, origin and spacing, and its 27 flags). Returns an empty
+ * string, or why they cannot be used (a plane with a transform, cropping an
+ * input with a direction matrix or negative spacing, planes that are not
+ * finite or flags beyond the 27 regions).
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ClipRegionOfMapper(vtkVolumeMapper* mapper,
+  vtkImageData* input, const double gridToWorld[16], avos::numerics::ClipRegion<double>& clip);
 }
 
 #endif

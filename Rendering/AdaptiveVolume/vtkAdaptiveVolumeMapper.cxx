@@ -7,7 +7,6 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
-#include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
@@ -449,39 +448,11 @@ bool vtkAdaptiveVolumeMapper::UpdateGeometry(vtkImageData* input, vtkVolume* vol
   }
   // Clipping planes (world) and cropping (the volume's coordinates, as VTK's
   // mappers: origin and spacing) -> grid coordinates.
-  an::ClipRegion<double>& clip = internals.Frame.Clip;
-  clip = an::ClipRegion<double>();
-  const std::string planesError =
-    avos::AddClippingPlanes(this->ClippingPlanes, internals.GridToWorld->GetData(), clip);
-  if (!planesError.empty())
-  {
-    vtkErrorMacro(<< planesError << ".");
-    return false;
-  }
-  if (this->Cropping)
-  {
-    const double* spacing = input->GetSpacing();
-    vtkMatrix3x3* orientation = input->GetDirectionMatrix();
-    if (!orientation->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 || spacing[2] < 0.0)
-    {
-      vtkErrorMacro(<< "Cropping needs an input with positive spacing and no direction matrix "
-                       "(its region planes are in the volume's axis-aligned coordinates).");
-      return false;
-    }
-    const double* origin = input->GetOrigin();
-    const int* extent = input->GetExtent();
-    double planes[6];
-    for (int c = 0; c < 6; ++c)
-    {
-      const int a = c / 2;
-      planes[c] = (this->CroppingRegionPlanes[c] - origin[a]) / spacing[a] - extent[2 * a];
-    }
-    clip.SetCropping(planes, this->CroppingRegionFlags);
-  }
-  const std::string unusable = clip.Validate();
+  const std::string unusable =
+    avos::ClipRegionOfMapper(this, input, internals.GridToWorld->GetData(), internals.Frame.Clip);
   if (!unusable.empty())
   {
-    vtkErrorMacro(<< "Unusable clipping or cropping: " << unusable << ".");
+    vtkErrorMacro(<< unusable << ".");
     return false;
   }
   return true;

@@ -11,7 +11,6 @@
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
-#include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -138,8 +137,7 @@ public:
   int TFModel = 0;
   double TFVoxel = 0.0;
   avos::ConversionBudget Conversion;       // what the conversion took (the piecewise method's)
-  avos::numerics::ClipRegion<double> Clip; // the clipping planes in grid coordinates
-  double CropPlanes[6] = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 }; // the same of cropping
+  avos::numerics::ClipRegion<double> Clip; // the planes and cropping in grid coordinates
   vtkTimeStamp TFTime;
   int PieceCount = -1; // the size the piece arrays were declared with
 
@@ -243,17 +241,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
     return "only the composite blend mode and the maximum and minimum intensity projections are "
            "supported";
   }
-  if (this->Cropping)
-  {
-    vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-    const double* spacing = input->GetSpacing();
-    if (!input->GetDirectionMatrix()->IsIdentity() || spacing[0] < 0.0 || spacing[1] < 0.0 ||
-      spacing[2] < 0.0)
-    {
-      return "cropping needs an input with positive spacing and no direction matrix (its region "
-             "planes are in the volume's axis-aligned coordinates)";
-    }
-  }
   if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > MaximumClippingPlanes)
   {
     return "at most " + std::to_string(MaximumClippingPlanes) + " clipping planes are supported";
@@ -340,10 +327,12 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetMethodUniforms(uniforms);
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
-  // Our shader blends (avos_blend) and clips (avos_clipPlanes): the
-  // superclass builds its composite shader without planes, whose ray loop
-  // ours replaces (its projections would overwrite our colour after the
-  // loop, its clipping discard fragments by its own rounding).
+  this->SetCutUniforms(uniforms);
+  // Our shader blends (avos_blend), clips and crops (SetCutUniforms): the
+  // superclass builds its composite shader without planes or cropping,
+  // whose ray loop ours replaces (its projections would overwrite our
+  // colour after the loop, its clipping discard fragments by its own
+  // rounding).
   const int blendMode = this->BlendMode;
   const vtkTypeBool cropping = this->Cropping;
   vtkSmartPointer<vtkPlaneCollection> planes = this->ClippingPlanes;
@@ -373,27 +362,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   {
     return "the image's spacing or the volume's matrix is degenerate";
   }
-  this->Internals->Clip.Clear();
-  error =
-    avos::AddClippingPlanes(this->ClippingPlanes, gridToWorld->GetData(), this->Internals->Clip);
-  if (this->Cropping)
-  {
-    // The region planes in grid coordinates, as the CPU mapper places them.
-    const double* origin = input->GetOrigin();
-    const double* spacing = input->GetSpacing();
-    const int* extent = input->GetExtent();
-    for (int c = 0; c < 6; ++c)
-    {
-      const int a = c / 2;
-      this->Internals->CropPlanes[c] =
-        (this->CroppingRegionPlanes[c] - origin[a]) / spacing[a] - extent[2 * a];
-    }
-    this->Internals->Clip.SetCropping(this->Internals->CropPlanes, this->CroppingRegionFlags);
-  }
-  if (error.empty())
-  {
-    error = this->Internals->Clip.Validate();
-  }
+  error = avos::ClipRegionOfMapper(this, input, gridToWorld->GetData(), this->Internals->Clip);
   if (!error.empty())
   {
     return error;
@@ -780,10 +749,14 @@ void vtkOpenGLAdaptiveVolumeMapper::SetRayUniforms(
   }
   uniforms->SetUniformMatrix3x3("avos_gridToVoxel", gridToVoxel[0]);
   uniforms->SetUniformMatrix3x3("avos_gridToVoxelLo", gridToVoxel[1]);
+}
 
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetCutUniforms(vtkUniforms* uniforms)
+{
   // The clipping planes in grid coordinates (numerics::ClipRegion: keeps
   // normal . x + offset >= 0), each double as float hi + lo.
-  const auto& planes = this->Internals->Clip.GetPlanes();
+  const auto& planes = this->Internals->Clip.GetPlanes(); // at most 6 (CheckVTKSettings)
   float clip[2][MaximumClippingPlanes][4] = {};
   for (std::size_t i = 0; i < planes.size(); ++i)
   {
@@ -799,13 +772,14 @@ void vtkOpenGLAdaptiveVolumeMapper::SetRayUniforms(
 
   // Cropping: the region planes in grid coordinates and the 27 regions'
   // flags.
+  const avos::numerics::ClipRegion<double>& region = this->Internals->Clip;
   float crop[2][2][3]; // [min, max][hi, lo][axis]
   for (int c = 0; c < 6; ++c)
   {
-    Split(this->Internals->CropPlanes[c], crop[c % 2][0][c / 2], crop[c % 2][1][c / 2]);
+    Split(region.GetCropPlanes()[c], crop[c % 2][0][c / 2], crop[c % 2][1][c / 2]);
   }
-  uniforms->SetUniformi("avos_cropping", this->Cropping ? 1 : 0);
-  uniforms->SetUniformi("avos_cropFlags", this->CroppingRegionFlags);
+  uniforms->SetUniformi("avos_cropping", region.GetCropping() ? 1 : 0);
+  uniforms->SetUniformi("avos_cropFlags", region.GetCropFlags());
   uniforms->SetUniform3f("avos_cropMin", crop[0][0]);
   uniforms->SetUniform3f("avos_cropMinLo", crop[0][1]);
   uniforms->SetUniform3f("avos_cropMax", crop[1][0]);

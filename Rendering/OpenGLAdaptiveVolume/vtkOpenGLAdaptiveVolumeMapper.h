@@ -241,7 +241,9 @@ public:
   /**
    * Empty when the mapper can render its input with `property` now, else
    * why not (the message rendering reports). Also called by GPURender, which
-   * also refuses what only the OpenGL context tells: the piecewise method
+   * also refuses what only the frame tells: clipping planes with a
+   * transform and cropping that cannot be placed on the grid
+   * (avos::ClipRegionOfMapper, as the CPU mapper), the piecewise method
    * without fp64, more pieces than the fragment uniforms hold.
    */
   std::string CheckRenderable(vtkRenderer* ren, vtkVolumeProperty* property);
@@ -266,9 +268,9 @@ protected:
    * or the tolerance did, their uniforms' room; an error message or empty),
    * the shader's replacements, the uniforms of the volume, of the
    * transfer function's pieces (and the piecewise method's) and of the
-   * method, the
-   * empty-space blocks' texture (uploaded when the ranges or the transfer
-   * function change) and the rays' uniforms for this camera.
+   * method, the empty-space blocks' texture (uploaded when the ranges or the
+   * transfer function change), the rays' uniforms for this camera and the
+   * cuts' (clipping planes and cropping in grid coordinates).
    */
   std::string PrepareFrame(
     vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
@@ -282,13 +284,14 @@ protected:
   void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
   void SetRayUniforms(
     vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);
+  void SetCutUniforms(vtkUniforms* uniforms);
   ///@}
 
   ///@{
   /**
    * CheckRenderable's parts: the input (image data, point scalars of one
    * component in a type the shader reads), VTK's mapper settings (blend
-   * mode, cropping, planes, masks, jittering, depth pass, range types, depth
+   * mode, the number of planes, masks, jittering, depth pass, range types, depth
    * peeling, the image quantity), the method's (tolerance, steps). Each
    * returns why not, or an empty string.
    */

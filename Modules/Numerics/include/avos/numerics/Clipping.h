@@ -60,6 +60,9 @@ public:
   }
 
   const std::vector<HalfSpace>& GetPlanes() const { return this->Planes; }
+  bool GetCropping() const { return this->Cropping; }
+  const Real* GetCropPlanes() const { return this->CropPlanes; }
+  int GetCropFlags() const { return this->CropFlags; }
 
   // True when nothing is clipped or cropped.
   bool IsEmpty() const { return this->Planes.empty() && !this->Cropping; }
