@@ -44,6 +44,18 @@ constexpr int ReservedUniformVectors = 256;
 // The clipping planes the shader takes (as VTK's GPU mapper).
 constexpr int MaximumClippingPlanes = 6;
 
+// The field the scalars make, as the shader's avos_fieldKind numbers it
+// (the CPU mapper's engine::ScalarField): point scalars trilinear or
+// nearest, cell scalars constant per cell (nearest) or trilinear between the
+// cells' centres (linear).
+enum class Field
+{
+  Trilinear = 0,
+  Nearest = 1,
+  Cells = 2,
+  CellCentres = 3
+};
+
 // How the shader reads the data's scalar from VTK 9.1's texture: texel *
 // Scale + Bias, rounded to an integer where Round. 8- and 16-bit integers
 // are uploaded normalised (unsigned: UNORM, k / (2^b - 1); signed: SNORM,
@@ -151,6 +163,9 @@ public:
   double IntegrationTolerance = 0.0;
   int PiecewiseCount = -1; // the size the avos_pp arrays were declared with
 
+  // The field of this frame's scalars (PrepareFrame).
+  Field ScalarField = Field::Trilinear;
+
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
   // change) and their visibility as a 3D texture (rebuilt when the ranges or
   // the transfer function change).
@@ -199,7 +214,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     problem = this->CheckMethodSettings();
   }
-  return problem.empty() ? avos::UnsupportedPropertySettings(property) : problem;
+  return problem.empty() ? avos::UnsupportedPropertySettings(property, false, true) : problem;
 }
 
 //------------------------------------------------------------------------------
@@ -217,11 +232,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckInput()
   if (!invalid.empty())
   {
     return invalid;
-  }
-  if (cellFlag != 0)
-  {
-    return "cell scalars are not supported by the GPU mapper (its texture holds point scalars); "
-           "vtkAdaptiveVolumeMapper renders them";
   }
   if (this->GetInputCount() > 1)
   {
@@ -357,6 +367,12 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return error;
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
+  int cellFlag = 0;
+  vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+  const bool nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
+  this->Internals->ScalarField = cellFlag != 0 ? (nearest ? Field::Cells : Field::CellCentres)
+                                               : (nearest ? Field::Nearest : Field::Trilinear);
   voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
   if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
   {
@@ -503,6 +519,12 @@ void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
   const int* dims = vtkImageData::SafeDownCast(this->GetInput())->GetDimensions();
   const float dimensions[3] = { float(dims[0]), float(dims[1]), float(dims[2]) };
   uniforms->SetUniform3f("avos_dimensions", dimensions);
+  // The walk grid refines the point grid by 2 where the field's pieces are
+  // half cells (see the shader's avos_cornerValues).
+  const Field field = this->Internals->ScalarField;
+  uniforms->SetUniformi("avos_fieldKind", static_cast<int>(field));
+  uniforms->SetUniformi(
+    "avos_walkScale", field == Field::Nearest || field == Field::CellCentres ? 2 : 1);
   double range[2];
   scalars->GetRange(range, 0);
   // Trilinear values never leave the data's range: knots outside it are never crossed.
@@ -638,9 +660,15 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateBlocks(
   if (this->EmptySpaceSkipping)
   {
     auto& map = internals.Ranges.GetMap();
-    // The types TexelToScalar accepts all work.
-    internals.Ranges.Update(
-      this->GetRenderedScalars(), vtkImageData::SafeDownCast(this->GetInput())->GetDimensions());
+    // The types TexelToScalar accepts all work. A block's range covers what
+    // its cells' field reads (cell scalars: their cells, and the neighbours
+    // between centres).
+    using Samples = avos::EmptySpaceRanges::Samples;
+    const Samples samples = internals.ScalarField == Field::Cells ? Samples::Cells
+      : internals.ScalarField == Field::CellCentres               ? Samples::CellCentres
+                                                                  : Samples::Points;
+    internals.Ranges.Update(this->GetRenderedScalars(),
+      vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(), samples);
     if (!internals.BlocksHoldMap || internals.BlocksRangesTime != internals.Ranges.GetTime() ||
       internals.BlocksTime < internals.TFTime || blocks->GetHandle() == 0)
     {

@@ -17,7 +17,7 @@
  * The integrals are those of vtkAdaptiveVolumeMapper (the CPU mapper, in
  * double), statement for statement: the same rays (through pixel centres,
  * from the near plane to the depth buffer, clipped to the grid's box, t in
- * voxel units), the same trilinear field (texels fetched and interpolated in
+ * voxel units), the same field (texels fetched and interpolated in
  * the shader, not by the texture unit, whose 8-bit filtering errs by 5e-3 on
  * llvmpipe), the same piecewise-linear transfer function (knots as uniforms,
  * searched exactly, not VTK's 1D tables), the same opacity models, step
@@ -54,16 +54,24 @@
  * again at each kept part's entry (as VTK's mappers start a clipped ray).
  * The superclass builds its shader without them.
  *
- * Supported: one-component point scalars of every type VTK's GPU mapper
+ * The field is the one vtkAdaptiveVolumeMapper integrates (VTK's GPU
+ * mapper's reading of the scalars): point scalars trilinear (linear
+ * interpolation) or each point's value on the part of the box nearest to it
+ * (nearest, vtkVolumeProperty's default); cell scalars (a texel per cell, as
+ * VTK uploads them) constant per cell (nearest) or trilinear between the
+ * cells' centres (linear). Each is trilinear on the cells of the point grid
+ * or of that grid refined by 2, which every method walks.
+ *
+ * Supported: one-component point or cell scalars of every type VTK's GPU mapper
  * uploads (8-, 16-, 32- and 64-bit integers, signed or not, float,
  * double), read back exactly for 8- and 16-bit integers and for wider ones
  * whose range spans at most 2^20 (within float's rounding of the range
  * otherwise and for double, which VTK scales onto [0, 1] in float), the
- * blend modes above, clipping planes, cropping, linear interpolation, 1D
+ * blend modes above, clipping planes, cropping, linear and nearest interpolation, 1D
  * transfer functions without shading. Refused with an error and nothing
  * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
  * -32768 (VTK's normalised texture reads them as the next value up), other
- * scalar types, cell scalars, several components, other blend modes,
+ * scalar types, several components, other blend modes,
  * cropping an input with a direction matrix or negative spacing, more than
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
@@ -289,7 +297,7 @@ protected:
 
   ///@{
   /**
-   * CheckRenderable's parts: the input (image data, point scalars of one
+   * CheckRenderable's parts: the input (image data, point or cell scalars of one
    * component in a type the shader reads), VTK's mapper settings (blend
    * mode, the number of planes, masks, jittering, depth pass, range types, depth
    * peeling, the image quantity), the method's (tolerance, steps). Each
@@ -301,7 +309,7 @@ protected:
   ///@}
 
   /**
-   * The scalars rendered (point scalars, as CheckRenderable requires).
+   * The scalars rendered (point or cell scalars of one component, as CheckRenderable requires).
    */
   vtkDataArray* GetRenderedScalars();
 

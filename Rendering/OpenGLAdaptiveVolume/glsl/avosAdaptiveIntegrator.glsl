@@ -43,27 +43,123 @@ float avos_texel(ivec3 p)
 #define avos_real3x3 mat3
 #endif
 
-// Trilinear interpolation at grid coordinates g, clamped onto the grid as the
-// core's TrilinearVolume does (a ray clipped to the box strays by rounding).
+// The field the scalars make (avos_fieldKind, as the CPU mapper's
+// engine::ScalarField): 0 point scalars, trilinear; 1 point scalars, each
+// point's value on the part of the box nearest to it (nearest); 2 cell
+// scalars, constant on each cell (nearest); 3 cell scalars, trilinear
+// between the cells' centres, clamped at the outer half cells (linear; the
+// texture then holds a texel per cell, as VTK uploads cell scalars). Every
+// method walks the cells of the walk grid, the point grid refined by
+// avos_walkScale (2 for fields 1 and 3, else 1; numerics'
+// CellConstantVolume and CellCentredVolume): the field is trilinear on each
+// of them, with the corners avos_cornerValues gives, and a ray's t is the
+// same on both grids.
+ivec3 avos_walkCells()
+{
+  return avos_walkScale * (ivec3(avos_dimensions) - ivec3(1));
+}
+
+// Along one axis of field 3, walk cell i reads the cells lo and hi (clamped
+// into the box); at its corners 0 and 1 the field holds lo + w (hi - lo)
+// with w = weights (CellCentredVolume::Weights: the mean of the cells beside
+// a face between centres, a cell's own value at its centre).
+void avos_centredAxis(int i, int last, out int lo, out int hi, out vec2 weights)
+{
+  int m = i / 2;
+  bool centreLast = (i & 1) == 0; // corner 1 at a centre, corner 0 on a face
+  lo = centreLast ? max(m - 1, 0) : m;
+  hi = centreLast ? m : min(m + 1, last);
+  weights = centreLast ? vec2(0.5, 1.0) : vec2(0.0, 0.5);
+}
+
+// The bilinear values of a face's four texels at its corners (x fastest),
+// weights wx, wy per axis.
+vec4 avos_bilinear(float v00, float v10, float v01, float v11, vec2 wx, vec2 wy)
+{
+  vec2 y0 = vec2(v00) + wx * (v10 - v00); // along x at y = lo
+  vec2 y1 = vec2(v01) + wx * (v11 - v01);
+  vec2 lo = y0 + wy.x * (y1 - y0);
+  vec2 hi = y0 + wy.y * (y1 - y0);
+  return vec4(lo, hi);
+}
+
+void avos_cornerValues(ivec3 cell, out float c[8])
+{
+  if (avos_fieldKind == 0)
+  {
+    c[0] = avos_texel(cell);
+    c[1] = avos_texel(cell + ivec3(1, 0, 0));
+    c[2] = avos_texel(cell + ivec3(0, 1, 0));
+    c[3] = avos_texel(cell + ivec3(1, 1, 0));
+    c[4] = avos_texel(cell + ivec3(0, 0, 1));
+    c[5] = avos_texel(cell + ivec3(1, 0, 1));
+    c[6] = avos_texel(cell + ivec3(0, 1, 1));
+    c[7] = avos_texel(cell + ivec3(1, 1, 1));
+    return;
+  }
+  if (avos_fieldKind != 3)
+  {
+    // Walk cell i of the refined grid, [i / 2, (i + 1) / 2], is nearest to
+    // point (i + 1) / 2; a cell of field 2 is its own texel.
+    // (Fixed loops are written out here: llvmpipe counts their iterations
+    // against its limit, avos_castRay.)
+    float v = avos_texel(avos_fieldKind == 1 ? (cell + ivec3(1)) / 2 : cell);
+    c[0] = v;
+    c[1] = v;
+    c[2] = v;
+    c[3] = v;
+    c[4] = v;
+    c[5] = v;
+    c[6] = v;
+    c[7] = v;
+    return;
+  }
+  ivec3 last = ivec3(avos_dimensions) - ivec3(2);
+  ivec3 lo;
+  ivec3 hi;
+  vec2 wx;
+  vec2 wy;
+  vec2 wz;
+  avos_centredAxis(cell.x, last.x, lo.x, hi.x, wx);
+  avos_centredAxis(cell.y, last.y, lo.y, hi.y, wy);
+  avos_centredAxis(cell.z, last.z, lo.z, hi.z, wz);
+  float v000 = avos_texel(lo);
+  float v100 = avos_texel(ivec3(hi.x, lo.y, lo.z));
+  float v010 = avos_texel(ivec3(lo.x, hi.y, lo.z));
+  float v110 = avos_texel(ivec3(hi.x, hi.y, lo.z));
+  float v001 = avos_texel(ivec3(lo.x, lo.y, hi.z));
+  float v101 = avos_texel(ivec3(hi.x, lo.y, hi.z));
+  float v011 = avos_texel(ivec3(lo.x, hi.y, hi.z));
+  float v111 = avos_texel(hi);
+  // Per z side: the bilinear values at the four (x, y) corners.
+  vec4 front = avos_bilinear(v000, v100, v010, v110, wx, wy);
+  vec4 back = avos_bilinear(v001, v101, v011, v111, wx, wy);
+  vec4 zl = front + wz.x * (back - front);
+  vec4 zh = front + wz.y * (back - front);
+  c[0] = zl.x;
+  c[1] = zl.y;
+  c[2] = zl.z;
+  c[3] = zl.w;
+  c[4] = zh.x;
+  c[5] = zh.y;
+  c[6] = zh.z;
+  c[7] = zh.w;
+}
+
+// The field at point-grid coordinates g, clamped onto the box as the core's
+// volumes clamp (a ray clipped to the box strays by rounding).
 float avos_field(avos_real3 g)
 {
-  avos_real3 last = avos_real3(avos_dimensions) - avos_real3(1.0);
-  avos_real3 p = clamp(g, avos_real3(0.0), last);
+  avos_real3 last = avos_real3(avos_walkCells());
+  avos_real3 p = clamp(g * avos_real(avos_walkScale), avos_real3(0.0), last);
   avos_real3 cell = min(floor(p), last - avos_real3(1.0));
   vec3 f = vec3(p - cell);
-  ivec3 c = ivec3(cell);
-  float v000 = avos_texel(c);
-  float v100 = avos_texel(c + ivec3(1, 0, 0));
-  float v010 = avos_texel(c + ivec3(0, 1, 0));
-  float v110 = avos_texel(c + ivec3(1, 1, 0));
-  float v001 = avos_texel(c + ivec3(0, 0, 1));
-  float v101 = avos_texel(c + ivec3(1, 0, 1));
-  float v011 = avos_texel(c + ivec3(0, 1, 1));
-  float v111 = avos_texel(c + ivec3(1, 1, 1));
-  float v00 = v000 + f.x * (v100 - v000);
-  float v10 = v010 + f.x * (v110 - v010);
-  float v01 = v001 + f.x * (v101 - v001);
-  float v11 = v011 + f.x * (v111 - v011);
+  float c[8];
+  avos_cornerValues(ivec3(cell), c);
+  float v00 = c[0] + f.x * (c[1] - c[0]);
+  float v10 = c[2] + f.x * (c[3] - c[2]);
+  float v01 = c[4] + f.x * (c[5] - c[4]);
+  float v11 = c[6] + f.x * (c[7] - c[6]);
   float v0 = v00 + f.y * (v10 - v00);
   float v1 = v01 + f.y * (v11 - v01);
   return v0 + f.z * (v1 - v0);
@@ -198,6 +294,8 @@ bool avos_hasKnotIn(float lo, float hi)
 // Grid position at t voxel units from the ray's entry into the box.
 avos_real3 avos_rayOrigin;
 avos_real3 avos_rayDirection;
+avos_real3 avos_walkOrigin; // the ray on the walk grid (avos_walkScale): the same t
+avos_real3 avos_walkDirection;
 int avos_samples; // transfer-function evaluations of this ray
 
 struct avos_Sample
@@ -767,16 +865,16 @@ struct avos_CellWalk
 avos_CellWalk avos_startCells(avos_real tBegin, avos_real tEnd)
 {
   avos_CellWalk w;
-  w.Cells = ivec3(avos_dimensions) - ivec3(1);
-  avos_real3 p = avos_rayOrigin + tBegin * avos_rayDirection;
+  w.Cells = avos_walkCells();
+  avos_real3 p = avos_walkOrigin + tBegin * avos_walkDirection;
   for (int a = 0; a < 3; ++a)
   {
     avos_real x = clamp(p[a], avos_real(0.0), avos_real(w.Cells[a]));
     w.Index[a] = min(int(x), w.Cells[a] - 1);
-    avos_real d = avos_rayDirection[a];
+    avos_real d = avos_walkDirection[a];
     w.Stride[a] = d > avos_real(0.0) ? 1 : (d < avos_real(0.0) ? -1 : 0);
-    w.TMax[a] = w.Stride[a] > 0 ? (avos_real(w.Index[a] + 1) - avos_rayOrigin[a]) / d
-      : (w.Stride[a] < 0 ? (avos_real(w.Index[a]) - avos_rayOrigin[a]) / d : avos_real(3.0e38));
+    w.TMax[a] = w.Stride[a] > 0 ? (avos_real(w.Index[a] + 1) - avos_walkOrigin[a]) / d
+      : (w.Stride[a] < 0 ? (avos_real(w.Index[a]) - avos_walkOrigin[a]) / d : avos_real(3.0e38));
     w.TDelta[a] = w.Stride[a] != 0 ? avos_real(1.0) / abs(d) : avos_real(3.0e38);
   }
   w.T = tBegin;
@@ -818,18 +916,11 @@ bool avos_nextCell(inout avos_CellWalk w, out ivec3 cell, out avos_real t0, out 
   return false;
 }
 
-// A cell's corners (x fastest), false when one is not finite (the cell is
-// undefined: passed over by every method but the samplers).
+// A walk cell's corners (x fastest), false when one is not finite (the cell
+// is undefined: passed over by every method but the samplers).
 bool avos_corners(ivec3 cell, out float c[8])
 {
-  c[0] = avos_texel(cell);
-  c[1] = avos_texel(cell + ivec3(1, 0, 0));
-  c[2] = avos_texel(cell + ivec3(0, 1, 0));
-  c[3] = avos_texel(cell + ivec3(1, 1, 0));
-  c[4] = avos_texel(cell + ivec3(0, 0, 1));
-  c[5] = avos_texel(cell + ivec3(1, 0, 1));
-  c[6] = avos_texel(cell + ivec3(0, 1, 1));
-  c[7] = avos_texel(cell + ivec3(1, 1, 1));
+  avos_cornerValues(cell, c);
   float sum = c[0] + c[1] + c[2] + c[3] + c[4] + c[5] + c[6] + c[7];
   return !isnan(sum) && !isinf(sum);
 }
@@ -853,8 +944,8 @@ avos_Cubic avos_cellCubic(float c[8], ivec3 cell, avos_real t0)
   avos_real G = avos_real(c[6]) - avos_real(c[4]) - C;
   avos_real H = avos_real(c[7]) - avos_real(c[6]) - avos_real(c[5]) - avos_real(c[3]) +
     avos_real(c[4]) + avos_real(c[2]) + avos_real(c[1]) - A;
-  avos_real3 e = avos_rayOrigin + t0 * avos_rayDirection - avos_real3(cell);
-  avos_real3 d = avos_rayDirection;
+  avos_real3 e = avos_walkOrigin + t0 * avos_walkDirection - avos_real3(cell);
+  avos_real3 d = avos_walkDirection;
   avos_real3 g = avos_real3(B + E * e.y + F * e.z + H * e.y * e.z,
     C + E * e.x + G * e.z + H * e.x * e.z, Dz + F * e.x + G * e.y + H * e.x * e.y);
   avos_Cubic q;
@@ -1746,6 +1837,8 @@ bool avos_setUpRay()
   }
   avos_rayOrigin = centre + u0 * direction;
   avos_rayDirection = direction;
+  avos_walkOrigin = avos_real(avos_walkScale) * avos_rayOrigin;
+  avos_walkDirection = avos_real(avos_walkScale) * direction;
   avos_rayEntry = float(tc + u0);
   avos_rayExtent = u1 - u0;
   avos_rayLength = float(avos_rayExtent);

@@ -12,7 +12,6 @@
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPlane.h"
-#include "vtkPointDataToCellData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTransform.h"
@@ -163,9 +162,6 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   refused(
     "shading", "Shading", [&] { property->ShadeOn(); }, [&] { property->ShadeOff(); });
   refused(
-    "nearest interpolation", "trilinear", [&] { property->SetInterpolationTypeToNearest(); },
-    [&] { property->SetInterpolationTypeToLinear(); });
-  refused(
     "an image quantity without a float depth image", "float depth image",
     [&] { mapper->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::ALPHA); },
     [&] { mapper->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::DEPTH); });
@@ -185,12 +181,6 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   refused(
     "short scalars reaching -32768", "reach -32768",
     [&] { mapper->SetInputConnection(toShortMinimum->GetOutputPort()); },
-    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
-  vtkNew<vtkPointDataToCellData> toCells;
-  toCells->SetInputConnection(source->GetOutputPort());
-  refused(
-    "cell scalars", "cell scalars are not supported by the GPU mapper",
-    [&] { mapper->SetInputConnection(toCells->GetOutputPort()); },
     [&] { mapper->SetInputConnection(source->GetOutputPort()); });
   vtkNew<vtkImageAppendComponents> twoComponents;
   twoComponents->AddInputConnection(source->GetOutputPort());

@@ -5,9 +5,9 @@ decoupled strategies and the Riemann sum, and its maximum and minimum
 intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
 integral; clipping planes and cropping cut its rays where they cut the CPU
-mapper's; it
-reads signed, 32-bit and double scalars as the CPU mapper does; a bad
-tolerance is refused and draws nothing."""
+mapper's; it reads signed, 32-bit and double scalars, nearest
+interpolation and cell scalars as the CPU mapper does; a bad tolerance is
+refused and draws nothing."""
 
 import avos
 from vtkmodules.test import Testing
@@ -16,6 +16,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vtkPlane
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
                                          vtkVolume, vtkVolumeProperty)
+from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
 from vtkmodules.vtkImagingCore import vtkImageShiftScale
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
@@ -256,6 +257,41 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             self.prop.SetScalarOpacity(opacity)
             self.assertPiecewiseWithinEps(1e-3, name)
             self.setUp()
+
+    def testNearestAndCellScalarsAsTheCPUMapper(self):
+        # Nearest interpolation of point scalars (vtkVolumeProperty's
+        # default), cell scalars constant per cell (nearest) and trilinear
+        # between the cells' centres (linear): the fields the CPU mapper
+        # integrates, walked on the same refined grid. The piecewise method
+        # within eps of the CPU's exact image, the maximum as the CPU's
+        # (exact), the Riemann sum as the CPU's (same samples, float sums).
+        cells = vtkPointDataToCellData()
+        cells.SetInputConnection(self.source.GetOutputPort())
+        point = self.source
+        eps = 1e-3
+        cases = (
+            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
+             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
+             eps - 1e-5),
+            ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
+             lambda m: m.SetBlendModeToMaximumIntensity(), 1e-5),
+            ("Riemann", lambda m: m.SetIntegrationMethodToRiemann(),
+             lambda m: m.SetIntegrationMethodToRiemann(), 1e-4))
+        linear = self.cpuImage(lambda m: m.SetBlendModeToMaximumIntensity())
+        for field, source, interpolation in (("point nearest", point, "Nearest"),
+                                             ("cell nearest", cells, "Nearest"),
+                                             ("cell linear", cells, "Linear")):
+            self.source = source
+            getattr(self.prop, "SetInterpolationTypeTo" + interpolation)()
+            for name, cpu, gpu, bound in cases:
+                expected = self.cpuImage(cpu)
+                if name == "maximum":
+                    changed = sum(abs(expected.GetComponent(i, 3) - linear.GetComponent(i, 3))
+                                  > 0.01 for i in range(SIZE * SIZE))
+                    self.assertGreater(changed, SIZE * SIZE // 32, field + ": another field")
+                worst, covered = self.gpuDifference(gpu, expected)
+                self.assertGreater(covered, SIZE * SIZE // 16, field + ", " + name)
+                self.assertLessEqual(worst, bound, field + ", " + name)
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
