@@ -26,6 +26,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
+#include "avos/numerics/Accumulation.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 
 #include <algorithm>
@@ -163,6 +164,12 @@ public:
   double IntegrationTolerance = 0.0;
   int PiecewiseCount = -1; // the size the avos_pp arrays were declared with
 
+  // The average projection's range as pieces that mark it (built each
+  // frame: the knots of one function), and the data's range, which the
+  // additive and average projections normalise the scalar to.
+  avos::numerics::AverageRange<double> AverageRange;
+  double DataRange[2] = { 0.0, 1.0 };
+
   // The field of this frame's scalars (PrepareFrame).
   Field ScalarField = Field::Trilinear;
 
@@ -246,10 +253,12 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
 {
   if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND &&
     this->BlendMode != vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND &&
-    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND)
+    this->BlendMode != vtkVolumeMapper::MINIMUM_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::AVERAGE_INTENSITY_BLEND &&
+    this->BlendMode != vtkVolumeMapper::ADDITIVE_BLEND)
   {
-    return "only the composite blend mode and the maximum and minimum intensity projections are "
-           "supported";
+    return "only the composite blend mode and the maximum, minimum and average intensity and "
+           "additive projections are supported";
   }
   if (this->ClippingPlanes && this->ClippingPlanes->GetNumberOfItems() > MaximumClippingPlanes)
   {
@@ -294,10 +303,13 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckMethodSettings()
   {
     return "the tolerance must be in (0, 1]";
   }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE && !(this->Tolerance >= 1e-5))
+  if ((this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+        this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND ||
+        this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND) &&
+    !(this->Tolerance >= 1e-5))
   {
-    return "the GPU's piecewise method takes a tolerance from 1e-5 to 1 (its transfer function "
-           "is held in float)";
+    return "the GPU's piecewise method and its additive and average projections take a tolerance "
+           "from 1e-5 to 1 (the transfer function is held in float)";
   }
   const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
   const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
@@ -369,7 +381,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
   int cellFlag = 0;
   vtkAbstractMapper::GetScalars(
-    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
+    ->GetRange(this->Internals->DataRange, 0);
   const bool nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
   this->Internals->ScalarField = cellFlag != 0 ? (nearest ? Field::Cells : Field::CellCentres)
                                                : (nearest ? Field::Nearest : Field::Trilinear);
@@ -409,10 +422,13 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   std::string error;
   vtkInternals& internals = *this->Internals;
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
-  if (piecewise && !GLEW_ARB_gpu_shader_fp64)
+  const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
+  const bool average = this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND;
+  if ((piecewise || additive || average) && !GLEW_ARB_gpu_shader_fp64)
   {
-    return "the piecewise method needs double precision in shaders (GL_ARB_gpu_shader_fp64), "
-           "which this OpenGL context lacks: use vtkAdaptiveVolumeMapper";
+    return "the piecewise method and the additive and average projections need double precision "
+           "in shaders (GL_ARB_gpu_shader_fp64), which this OpenGL context lacks: use "
+           "vtkAdaptiveVolumeMapper";
   }
   // The piecewise method converts VTK's functions within shares of its eps
   // where they are not piecewise linear, as the CPU mapper does, and
@@ -445,7 +461,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   }
   internals.IntegrationTolerance =
     piecewise ? avos::IntegrationTolerance(this->Tolerance, internals.Conversion) : this->Tolerance;
-  if (piecewise &&
+  // (The additive projection integrates the same pieces at the tolerance.)
+  if ((piecewise || additive) &&
     (internals.PiecesTime < internals.TFTime ||
       internals.PiecesTolerance != internals.IntegrationTolerance))
   {
@@ -458,9 +475,24 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
     internals.PiecesTime.Modified();
     internals.PiecesTolerance = internals.IntegrationTolerance;
   }
+  // The average's range, within the data's (VTK's default range is the
+  // whole float line); a range beside the data's holds no ray.
+  if (average)
+  {
+    const double r0 = std::max(this->AverageIPScalarRange[0], internals.DataRange[0]);
+    const double r1 = std::min(this->AverageIPScalarRange[1], internals.DataRange[1]);
+    error = internals.AverageRange.Build(internals.TF, r0, std::max(r0, r1));
+    if (!error.empty())
+    {
+      return "unusable average intensity range: " + error;
+    }
+  }
   // Uniform vectors: 3 per transfer-function piece, 4 per piecewise piece.
   const std::size_t pieces = internals.TF.GetPieces().size();
-  const std::size_t piecewisePieces = piecewise ? internals.Pieces.GetNumberOfPieces() : 1;
+  const std::size_t piecewisePieces = std::max<std::size_t>(1,
+    average                   ? internals.AverageRange.GetPieces().GetNumberOfPieces()
+      : piecewise || additive ? internals.Pieces.GetNumberOfPieces()
+                              : 1);
   GLint vectors = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
   const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
@@ -525,11 +557,15 @@ void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
   uniforms->SetUniformi("avos_fieldKind", static_cast<int>(field));
   uniforms->SetUniformi(
     "avos_walkScale", field == Field::Nearest || field == Field::CellCentres ? 2 : 1);
-  double range[2];
-  scalars->GetRange(range, 0);
-  // Trilinear values never leave the data's range: knots outside it are never crossed.
+  // The field's values never leave the data's range: knots outside it are never crossed.
+  const double* range = this->Internals->DataRange;
   const float fieldRange[2] = { float(range[0]), float(range[1]) };
   uniforms->SetUniform2f("avos_fieldRange", fieldRange);
+  // The additive and average projections' n = (s - smin) / (smax - smin)
+  // (a constant volume: any positive span gives n = 0, as on the CPU).
+  const double span = range[1] > range[0] ? range[1] - range[0] : 1.0;
+  const float accumulation[2] = { float(range[0]), float(1.0 / span) };
+  uniforms->SetUniform2f("avos_accumulationRange", accumulation);
 }
 
 //------------------------------------------------------------------------------
@@ -585,12 +621,17 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
 //------------------------------------------------------------------------------
 void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
 {
-  // The piecewise method's pieces (numerics::PiecewiseTransferFunction, see
-  // the shader's avos_pp*), one unused piece for the other methods.
+  // The pieces the piece walk reads (numerics::PiecewiseTransferFunction,
+  // see the shader's avos_pp*): the transfer function's for the piecewise
+  // method and the additive projection, the range's marks for the average
+  // (avos_averagePiece), one unused piece for the other methods.
   vtkInternals& internals = *this->Internals;
-  const auto& pp = internals.Pieces;
-  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
-  const int count = piecewise ? static_cast<int>(pp.GetNumberOfPieces()) : 1;
+  const bool average = this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND;
+  const bool walked = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+    this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
+  const auto& pp = average ? internals.AverageRange.GetPieces() : internals.Pieces;
+  const bool used = (average && !internals.AverageRange.IsEmpty()) || walked;
+  const int count = used ? static_cast<int>(pp.GetNumberOfPieces()) : 1;
   if (count != internals.PiecewiseCount)
   {
     for (const char* name : { "avos_ppA", "avos_ppB", "avos_ppC", "avos_ppS" })
@@ -600,7 +641,7 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
     internals.PiecewiseCount = count;
   }
   std::vector<float> a(4 * count, 0.0f), b(4 * count, 0.0f), c(4 * count, 0.0f), s(4 * count, 0.0f);
-  for (int i = 0; i < count && piecewise; ++i)
+  for (int i = 0; i < count && used; ++i)
   {
     const auto& p = pp[static_cast<std::size_t>(i)];
     a[4 * i] = float(p.Start);
@@ -610,7 +651,9 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
     b[4 * i] = float(p.TauCubic);
     // The visible pieces among the first i + 1 (exact in float below 2^24).
     b[4 * i + 1] = float(pp.IsVisible(static_cast<std::size_t>(i))) + (i > 0 ? b[4 * i - 3] : 0.0f);
-    b[4 * i + 2] = float(p.ColourSlopeMaximum);
+    b[4 * i + 2] = average
+      ? float(internals.AverageRange.IsTransparent(static_cast<std::size_t>(i)))
+      : float(p.ColourSlopeMaximum);
     for (int k = 0; k < 3; ++k)
     {
       c[4 * i + k] = float(p.Colour[k]);
@@ -628,10 +671,26 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
 void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
 {
   uniforms->SetUniformi("avos_method", this->IntegrationMethod);
-  uniforms->SetUniformi("avos_blend",
-    this->BlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
-      ? 1
-      : (this->BlendMode == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND ? 2 : 0));
+  // The shader's blends: composite 0, maximum 1, minimum 2, additive 3, average 4.
+  int blend = 0;
+  switch (this->BlendMode)
+  {
+    case vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND:
+      blend = 1;
+      break;
+    case vtkVolumeMapper::MINIMUM_INTENSITY_BLEND:
+      blend = 2;
+      break;
+    case vtkVolumeMapper::ADDITIVE_BLEND:
+      blend = 3;
+      break;
+    case vtkVolumeMapper::AVERAGE_INTENSITY_BLEND:
+      blend = 4;
+      break;
+    default:
+      break;
+  }
+  uniforms->SetUniformi("avos_blend", blend);
   uniforms->SetUniformf("avos_tolerance", float(this->Internals->IntegrationTolerance));
   const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
     float(this->MaximumStep), float(this->RiemannStep) };
@@ -640,7 +699,10 @@ void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
   uniforms->SetUniformi("avos_quantity", this->RenderToImage ? this->ImageQuantity : 0);
   uniforms->SetUniformi("avos_two", 2); // the shader's loop-limit canary (avos_castRay)
   // Empty-space skipping (see avos_nextSegment).
-  uniforms->SetUniformi("avos_skipping", this->EmptySpaceSkipping ? 1 : 0);
+  // (The average counts the length of transparent blocks in its range.)
+  uniforms->SetUniformi("avos_skipping",
+    this->EmptySpaceSkipping && this->BlendMode != vtkVolumeMapper::AVERAGE_INTENSITY_BLEND ? 1
+                                                                                            : 0);
   uniforms->SetUniformf(
     "avos_blockSize", static_cast<float>(avos::numerics::EmptySpaceMap<double>::BlockSize));
   // Against rounding of the block crossings: 1e-6 voxel in double, 1e-3 in

@@ -46,7 +46,16 @@
  * or a root of its derivative, in double where the context has fp64),
  * shown as the colour there times the opacity function's value there
  * (clamped to [0, 1]), that value as alpha. VTK's GPU mapper takes the
- * extremum of samples and misses peaks between them.
+ * extremum of samples and misses peaks between them. The additive and
+ * average intensity projections (where the context has fp64) are
+ * vtkAdaptiveVolumeMapper's, VTK's GPU mapper's meaning integrated along the
+ * ray instead of sampled (numerics' Accumulation.h): additive, the integral
+ * of the extinction times the scalar normalised to the data's range, exact
+ * on each piece of the transfer function (7-point Gauss-Legendre on a
+ * polynomial); average, the mean over the ray's length inside
+ * AverageIPScalarRange of the opacity of a slab of RiemannStep times that
+ * normalised scalar, within the tolerance (Gauss-Legendre 8 against 4,
+ * halving); grey, opaque where the ray meets the volume (the range).
  *
  * Clipping planes (up to 6, world coordinates, each keeping the side its
  * normal points to) and cropping (VTK's 27 regions and flags) cut every ray
@@ -67,11 +76,13 @@
  * double), read back exactly for 8- and 16-bit integers and for wider ones
  * whose range spans at most 2^20 (within float's rounding of the range
  * otherwise and for double, which VTK scales onto [0, 1] in float), the
- * blend modes above, clipping planes, cropping, linear and nearest interpolation, 1D
+ * blend modes above (all of vtkVolumeMapper's but the isosurface and
+ * slice blends), clipping planes, cropping, linear and nearest interpolation, 1D
  * transfer functions without shading. Refused with an error and nothing
  * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
  * -32768 (VTK's normalised texture reads them as the next value up), other
- * scalar types, several components, other blend modes,
+ * scalar types, several components, the isosurface and slice blends, the
+ * piecewise method and the additive and average projections without fp64,
  * cropping an input with a direction matrix or negative spacing, more than
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,

@@ -33,11 +33,13 @@ float avos_texel(ivec3 p)
 // all in float, with those errors.
 #ifdef GL_ARB_gpu_shader_fp64
 #define avos_real double
+#define AVOS_DOUBLE(x) x##LF // a literal in double
 #define avos_real2 dvec2
 #define avos_real3 dvec3
 #define avos_real3x3 dmat3
 #else
 #define avos_real float
+#define AVOS_DOUBLE(x) x
 #define avos_real2 vec2
 #define avos_real3 vec3
 #define avos_real3x3 mat3
@@ -1497,6 +1499,136 @@ void avos_integratePiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_
   ray.Colour += c1 * (Ta * J);
 }
 
+// ------------------------------------ the additive and average projections
+// numerics::AdditiveAlongRay and AverageAlongRay (Accumulation.h) on the
+// piece walk, n = (s - smin) / (smax - smin) over the data's range
+// (avos_accumulationRange: smin and 1 / (smax - smin)). Additive: per piece
+// of the transfer function, int tau n by 7-point Gauss-Legendre, exact
+// (tau n is a polynomial of degree at most 12 in the ray's parameter). The
+// ray's sum goes into Colour.x.
+#define AVOS_NODE(x, w)                                                                            \
+  d = avos_at(q, mid + radius * (x)) - start;                                                        \
+  sum += (w) * (t0 + d * (t1 + d * (t2 + d * t3))) * (start + d - smin);
+#define AVOS_NODES(x, w)                                                                           \
+  AVOS_NODE(-AVOS_DOUBLE(x), AVOS_DOUBLE(w)) AVOS_NODE(AVOS_DOUBLE(x), AVOS_DOUBLE(w))
+void avos_addPiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_real ua, avos_real ub)
+{
+  if (!(avos_ppB[i].y > avos_ppVisibleBefore(i)))
+  {
+    return; // tau = 0 on the whole piece
+  }
+  avos_real start = avos_real(avos_ppA[i].x);
+  avos_real t0 = avos_real(avos_ppA[i].y);
+  avos_real t1 = avos_real(avos_ppA[i].z);
+  avos_real t2 = avos_real(avos_ppA[i].w);
+  avos_real t3 = avos_real(avos_ppB[i].x);
+  avos_real smin = avos_real(avos_accumulationRange.x);
+  avos_real radius = avos_real(0.5) * (ub - ua);
+  avos_real mid = avos_real(0.5) * (ua + ub);
+  avos_real sum = avos_real(0.0);
+  avos_real d;
+  AVOS_NODES(0.9491079123427585, 0.1294849661688697)
+  AVOS_NODES(0.7415311855993945, 0.2797053914892766)
+  AVOS_NODES(0.4058451513773972, 0.3818300505051189)
+  AVOS_NODE(avos_real(0.0), AVOS_DOUBLE(0.4179591836734694))
+  ray.Colour.x += radius * sum * avos_real(avos_accumulationRange.y);
+}
+
+// The average's integrand alpha_h(s) n(s) at u, alpha_h = 1 - exp(-tau h)
+// the opacity of a slab of the sample distance h (avos_steps.w), tau from
+// the transfer function's piece k (avos_lookUp's, found once per piece of
+// the range: those are cut at every knot).
+avos_real avos_averaged(avos_Cubic q, int k, avos_real u)
+{
+  float s = float(avos_at(q, u));
+  float opacity = k < 0 ? avos_below.w
+                        : avos_pieceA[k].z + avos_pieceA[k].w * clamp(s - avos_pieceA[k].x, 0.0,
+                                                                   avos_pieceA[k].y);
+  return avos_real(avos_oneMinusExp(avos_toExtinction(opacity) * avos_steps.w) *
+    (s - avos_accumulationRange.x) * avos_accumulationRange.y);
+}
+
+#define AVOS_GAUSS(x, w)                                                                           \
+  sum += AVOS_DOUBLE(w) *                                                                          \
+    (avos_averaged(q, k, mid - radius * AVOS_DOUBLE(x)) + avos_averaged(q, k, mid + radius * AVOS_DOUBLE(x)));
+avos_real avos_gauss4(avos_Cubic q, int k, avos_real a, avos_real b)
+{
+  avos_real radius = avos_real(0.5) * (b - a);
+  avos_real mid = avos_real(0.5) * (a + b);
+  avos_real sum = avos_real(0.0);
+  AVOS_GAUSS(0.8611363115940526, 0.3478548451374538)
+  AVOS_GAUSS(0.3399810435848563, 0.6521451548625461)
+  return radius * sum;
+}
+
+avos_real avos_gauss8(avos_Cubic q, int k, avos_real a, avos_real b)
+{
+  avos_real radius = avos_real(0.5) * (b - a);
+  avos_real mid = avos_real(0.5) * (a + b);
+  avos_real sum = avos_real(0.0);
+  AVOS_GAUSS(0.9602898564975363, 0.1012285362903763)
+  AVOS_GAUSS(0.7966664774136267, 0.2223810344533745)
+  AVOS_GAUSS(0.5255324099163290, 0.3137066458778873)
+  AVOS_GAUSS(0.1834346424956498, 0.3626837833783620)
+  return radius * sum;
+}
+
+// Average: a piece of the range's marks (avos_pp holds the pieces of
+// numerics::AverageRange: visible inside [r0, r1], cut at the transfer
+// function's knots; avos_ppB.z 1 where the transfer function is transparent)
+// adds its length to Colour.y and, unless transparent, int alpha_h n to
+// Colour.x: Gauss-Legendre 8 against 4, the piece halved while they differ
+// by more than the tolerance times the part's length (AdaptiveGauss's rule,
+// so the mean is within the tolerance), walked depth first without a stack
+// (a part is the dyadic interval `index` of its `level`). At level 20 the
+// 8-node value is taken, as on the CPU; a piece that needs more than 4096
+// parts fails the ray (reported, never shown).
+void avos_averagePiece(
+  inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_real ua, avos_real ub)
+{
+  if (!(avos_ppB[i].y > avos_ppVisibleBefore(i)))
+  {
+    return; // outside the range
+  }
+  avos_real length = ub - ua;
+  ray.Colour.y += length;
+  if (avos_ppB[i].z != 0.0)
+  {
+    return;
+  }
+  int k = avos_locate(float(avos_at(q, avos_real(0.5) * (ua + ub))));
+  int level = 0;
+  int index = 0;
+  for (int n = 0; n < 4096; ++n)
+  {
+    avos_real width = ldexp(length, -level);
+    avos_real a = ua + avos_real(index) * width;
+    avos_real fine = avos_gauss8(q, k, a, a + width);
+    if (abs(fine - avos_gauss4(q, k, a, a + width)) <= avos_real(avos_tolerance) * width ||
+      level >= 20)
+    {
+      ray.Colour.x += fine;
+      // Up past the parts whose right half this was, then to the next one.
+      for (int up = 0; up < 21 && (index & 1) == 1; ++up)
+      {
+        index >>= 1;
+        --level;
+      }
+      if (level == 0)
+      {
+        return;
+      }
+      ++index;
+    }
+    else
+    {
+      ++level;
+      index *= 2;
+    }
+  }
+  ray.Failed = true;
+}
+
 // Where the piecewise walk stands on a ray: the cell (its cubic Q from the
 // entry of its part, the corners' range, the ends of its monotone stretches
 // Ends[0..Stretches]), the stretch (its pieces First..Last of the transfer
@@ -1576,36 +1708,31 @@ void avos_nextPiece(inout avos_PieceWalk w, inout avos_PiecewiseRay ray)
   }
   if (end > w.U)
   {
-    avos_integratePiece(ray, w.Q, p, w.U, end);
+    if (avos_blend == 3)
+    {
+      avos_addPiece(ray, w.Q, p, w.U, end);
+    }
+    else if (avos_blend == 4)
+    {
+      avos_averagePiece(ray, w.Q, p, w.U, end);
+    }
+    else
+    {
+      avos_integratePiece(ray, w.Q, p, w.U, end);
+    }
   }
   w.U = end;
   ++w.Next;
 }
 
-// The piecewise method over the visible parts of [0, D] (IntegratePiecewise
-// over the empty-space segments). One loop: each pass integrates a piece or
-// moves to the next stretch, cell or part, so the fragments of a SIMD group
-// (llvmpipe, GPU warps) iterate as long as their longest ray, not as long as
-// the sums of their nested loops (llvmpipe counts those against its limit).
-// Alpha < 0: a piece beyond its sub-interval bound.
-vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
+// The pieces of the visible parts of [0, D] through the blend's per-piece
+// integral (avos_nextPiece), until the ray's transmittance reaches `bound`
+// or it fails. One loop: each pass integrates a piece or moves to the next
+// stretch, cell or part, so the fragments of a SIMD group (llvmpipe, GPU
+// warps) iterate as long as their longest ray, not as long as the sums of
+// their nested loops (llvmpipe counts those against its limit).
+void avos_walkPieces(avos_real D, avos_real bound, inout avos_PiecewiseRay ray)
 {
-  avos_real lastEnd;
-  int parts;
-  avos_real L = avos_visibleLength(D, lastEnd, parts);
-  if (!(L > avos_real(0.0)))
-  {
-    return vec4(0.0);
-  }
-  avos_PiecewiseRay ray;
-  ray.Colour = avos_real3(0.0);
-  ray.T = avos_real(1.0);
-  ray.InverseL = avos_real(1.0) / L;
-  ray.Budget = avos_real(0.6) * avos_real(tolerance);
-  ray.Failed = false;
-  avos_real bound = earlyTermination
-    ? avos_real(0.15) * avos_real(tolerance) / max(avos_real(1.0), avos_real(avos_maximumColour))
-    : avos_real(-1.0);
   avos_Walk walk = avos_startWalk(D);
   avos_real begin;
   avos_real end;
@@ -1644,12 +1771,63 @@ vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
     }
     cells = avos_startCells(begin, end);
   }
+}
+
+avos_PiecewiseRay avos_startRay(avos_real L, float tolerance)
+{
+  avos_PiecewiseRay ray;
+  ray.Colour = avos_real3(0.0);
+  ray.T = avos_real(1.0);
+  ray.InverseL = L > avos_real(0.0) ? avos_real(1.0) / L : avos_real(0.0);
+  ray.Budget = avos_real(0.6) * avos_real(tolerance);
+  ray.Failed = false;
+  return ray;
+}
+
+// The piecewise method over the visible parts of [0, D] (IntegratePiecewise
+// over the empty-space segments). Alpha < 0: a piece beyond its
+// sub-interval bound.
+vec4 avos_piecewise(avos_real D, float tolerance, bool earlyTermination)
+{
+  avos_real lastEnd;
+  int parts;
+  avos_real L = avos_visibleLength(D, lastEnd, parts);
+  if (!(L > avos_real(0.0)))
+  {
+    return vec4(0.0);
+  }
+  avos_PiecewiseRay ray = avos_startRay(L, tolerance);
+  avos_real bound = earlyTermination
+    ? avos_real(0.15) * avos_real(tolerance) / max(avos_real(1.0), avos_real(avos_maximumColour))
+    : avos_real(-1.0);
+  avos_walkPieces(D, bound, ray);
   if (ray.Failed)
   {
     return vec4(0.0, 0.0, 0.0, -1.0);
   }
   float alpha = float(avos_real(1.0) - ray.T);
   return vec4(clamp(vec3(ray.Colour), vec3(0.0), vec3(alpha)), alpha);
+}
+
+// The additive (avos_blend 3) and average (4) projections as the CPU mapper
+// shows them: grey, clamped to [0, 1], opaque wherever the ray meets the
+// volume (the average: the range). Alpha < 0: an average beyond its bound
+// of sub-intervals.
+vec4 avos_accumulation(avos_real D)
+{
+  avos_PiecewiseRay ray = avos_startRay(avos_real(0.0), avos_tolerance);
+  avos_walkPieces(D, avos_real(-1.0), ray);
+  if (ray.Failed)
+  {
+    return vec4(0.0, 0.0, 0.0, -1.0);
+  }
+  if (avos_blend == 4 && !(ray.Colour.y > avos_real(0.0)))
+  {
+    return vec4(0.0);
+  }
+  avos_real value = avos_blend == 3 ? ray.Colour.x : ray.Colour.x / ray.Colour.y;
+  float v = clamp(float(value), 0.0, 1.0);
+  return vec4(v, v, v, 1.0);
 }
 
 // The projection as VTK shows it (and vtkAdaptiveVolumeMapper): the colour at
@@ -1861,9 +2039,13 @@ void avos_castRay()
   }
   // What the rest of a ray can add to any channel is at most T max(1, max C).
   float budget = 0.2 * avos_tolerance / max(1.0, avos_maximumColour);
-  if (avos_blend != 0)
+  if (avos_blend == 1 || avos_blend == 2)
   {
     avos_result = avos_projection(avos_rayExtent, avos_blend == 1);
+  }
+  else if (avos_blend != 0)
+  {
+    avos_result = avos_accumulation(avos_rayExtent);
   }
   else if (avos_method == 3)
   {

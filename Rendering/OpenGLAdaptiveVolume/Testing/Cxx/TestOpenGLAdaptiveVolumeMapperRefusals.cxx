@@ -118,8 +118,32 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
     [&] { mapper->SetMinimumStep(0.1); });
   refused(
-    "the average intensity blend", "composite", [&] { mapper->SetBlendModeToAverageIntensity(); },
+    "the isosurface blend", "composite", [&] { mapper->SetBlendModeToIsoSurface(); },
     [&] { mapper->SetBlendModeToComposite(); });
+  refused(
+    "an average range that is not finite", "average intensity range",
+    [&]
+    {
+      mapper->SetBlendModeToAverageIntensity();
+      mapper->SetAverageIPScalarRange(std::nan(""), 1.0);
+    },
+    [&]
+    {
+      mapper->SetBlendModeToComposite();
+      mapper->SetAverageIPScalarRange(VTK_FLOAT_MIN, VTK_FLOAT_MAX);
+    });
+  refused(
+    "an additive tolerance below 1e-5", "from 1e-5 to 1",
+    [&]
+    {
+      mapper->SetBlendModeToAdditive();
+      mapper->SetTolerance(1e-6);
+    },
+    [&]
+    {
+      mapper->SetBlendModeToComposite();
+      mapper->SetTolerance(0.01);
+    });
   refused(
     "a cropping plane that is not finite", "cropping region planes",
     [&]

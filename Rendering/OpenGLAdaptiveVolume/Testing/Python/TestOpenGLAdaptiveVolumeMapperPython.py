@@ -258,6 +258,28 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             self.assertPiecewiseWithinEps(1e-3, name)
             self.setUp()
 
+    def testAdditiveAndAverageAsTheCPUMapper(self):
+        # VTK's additive and average projections, integrated along the ray
+        # as the CPU mapper integrates them (its meaning: Accumulation.h).
+        # Additive: both exact on the same pieces of the transfer function
+        # (apart by the float uniforms' rounding); average: both within the
+        # tolerance of the exact mean, so within twice it of each other;
+        # over the whole data range and over a part of it.
+        eps = 1e-3
+        for name, blend, scalarRange, bound in (
+                ("additive", "Additive", None, 1e-5),
+                ("average", "AverageIntensity", None, 2 * eps),
+                ("average in [0.3, 0.9]", "AverageIntensity", (0.3, 0.9), 2 * eps)):
+            def configure(mapper):
+                getattr(mapper, "SetBlendModeTo" + blend)()
+                mapper.SetTolerance(eps)
+                if scalarRange:
+                    mapper.SetAverageIPScalarRange(*scalarRange)
+            expected = self.cpuImage(configure)
+            worst, covered = self.gpuDifference(configure, expected)
+            self.assertGreater(covered, SIZE * SIZE // 8, name)
+            self.assertLessEqual(worst, bound, name)
+
     def testNearestAndCellScalarsAsTheCPUMapper(self):
         # Nearest interpolation of point scalars (vtkVolumeProperty's
         # default), cell scalars constant per cell (nearest) and trilinear
