@@ -424,11 +424,19 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
   const bool additive = this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
   const bool average = this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND;
-  if ((piecewise || additive || average) && !GLEW_ARB_gpu_shader_fp64)
+  const bool fp64 = this->UseDoublePrecision && GLEW_ARB_gpu_shader_fp64;
+  if ((additive || average) && !fp64)
   {
-    return "the piecewise method and the additive and average projections need double precision "
-           "in shaders (GL_ARB_gpu_shader_fp64), which this OpenGL context lacks: use "
-           "vtkAdaptiveVolumeMapper";
+    return "the additive and average projections need double precision in shaders "
+           "(GL_ARB_gpu_shader_fp64), which this OpenGL context lacks or UseDoublePrecision turns "
+           "off: use vtkAdaptiveVolumeMapper";
+  }
+  // Float rounding is outside the piecewise method's certificate: its float
+  // path keeps 2 eps on the tests' scenes from eps 1e-4 on.
+  if (piecewise && !fp64 && this->Tolerance < 1e-4)
+  {
+    return "the piecewise method in float (without GL_ARB_gpu_shader_fp64, or with "
+           "UseDoublePrecision off) takes a tolerance from 1e-4 to 1";
   }
   // The piecewise method converts VTK's functions within shares of its eps
   // where they are not piecewise linear, as the CPU mapper does, and
@@ -517,9 +525,10 @@ void vtkOpenGLAdaptiveVolumeMapper::AddShaderReplacements(vtkOpenGLShaderPropert
     std::string("//VTK::Shading::Dec\n") + avos::AdaptiveIntegratorGLSL;
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Dec", true, integrator, false);
   // Directives must precede any declaration: after the version line.
-  this->DoublePrecisionRays = GLEW_ARB_gpu_shader_fp64 ? 1 : 0;
+  this->DoublePrecisionRays = this->UseDoublePrecision && GLEW_ARB_gpu_shader_fp64 ? 1 : 0;
   shaderProperty->AddFragmentShaderReplacement("//VTK::System::Dec", true,
     this->DoublePrecisionRays ? "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n"
+                                "#define AVOS_DOUBLE_PRECISION\n"
                               : "//VTK::System::Dec\n",
     false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
@@ -899,4 +908,5 @@ void vtkOpenGLAdaptiveVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ImageQuantity: " << this->ImageQuantity << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "DoublePrecisionRays: " << this->DoublePrecisionRays << "\n";
+  os << indent << "UseDoublePrecision: " << this->UseDoublePrecision << "\n";
 }

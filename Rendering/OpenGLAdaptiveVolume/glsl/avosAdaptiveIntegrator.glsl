@@ -31,15 +31,17 @@ float avos_texel(ivec3 p)
 // float differs from the core in double by a 99th percentile of 3.3e-5 on
 // Bonsai at eps 1e-4, and this shader with a double t by 1.5e-6. Elsewhere
 // all in float, with those errors.
-#ifdef GL_ARB_gpu_shader_fp64
+#ifdef AVOS_DOUBLE_PRECISION // defined by the mapper with the extension
 #define avos_real double
 #define AVOS_DOUBLE(x) x##LF // a literal in double
+#define avos_ldexp(x, k) ldexp(x, k)
 #define avos_real2 dvec2
 #define avos_real3 dvec3
 #define avos_real3x3 dmat3
 #else
 #define avos_real float
 #define AVOS_DOUBLE(x) x
+#define avos_ldexp(x, k) ((x) * exp2(float(k))) // (ldexp: GLSL 4.00)
 #define avos_real2 vec2
 #define avos_real3 vec3
 #define avos_real3x3 mat3
@@ -1136,7 +1138,7 @@ avos_real avos_exp(avos_real x)
   e = avos_real(1.0) + e * r / avos_real(3.0);
   e = avos_real(1.0) + e * r / avos_real(2.0);
   e = avos_real(1.0) + e * r;
-  return ldexp(e, int(k));
+  return avos_ldexp(e, int(k));
 }
 
 // The piece holding s: pieces i >= 1 start at the knots (right-continuous
@@ -1601,7 +1603,7 @@ void avos_averagePiece(
   int index = 0;
   for (int n = 0; n < 4096; ++n)
   {
-    avos_real width = ldexp(length, -level);
+    avos_real width = avos_ldexp(length, -level);
     avos_real a = ua + avos_real(index) * width;
     avos_real fine = avos_gauss8(q, k, a, a + width);
     if (abs(fine - avos_gauss4(q, k, a, a + width)) <= avos_real(avos_tolerance) * width ||

@@ -115,6 +115,32 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
       mapper->SetTolerance(0.01);
     });
   refused(
+    "a piecewise tolerance below 1e-4 in float", "from 1e-4 to 1",
+    [&]
+    {
+      mapper->SetIntegrationMethodToPiecewiseAdaptive();
+      mapper->UseDoublePrecisionOff();
+      mapper->SetTolerance(5e-5);
+    },
+    [&]
+    {
+      mapper->SetIntegrationMethodToAdaptiveCoupled();
+      mapper->UseDoublePrecisionOn();
+      mapper->SetTolerance(0.01);
+    });
+  refused(
+    "the average projection in float", "need double precision",
+    [&]
+    {
+      mapper->SetBlendModeToAverageIntensity();
+      mapper->UseDoublePrecisionOff();
+    },
+    [&]
+    {
+      mapper->SetBlendModeToComposite();
+      mapper->UseDoublePrecisionOn();
+    });
+  refused(
     "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
     [&] { mapper->SetMinimumStep(0.1); });
   refused(
