@@ -268,6 +268,11 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
   {
     return "masks are not supported";
   }
+  if (this->Partitioned)
+  {
+    return "partitions (SetPartitions) are not supported: the rays read the whole volume from "
+           "one texture";
+  }
   if (this->UseJittering)
   {
     return "UseJittering is not supported: the methods place their own samples (turn it off)";
@@ -294,6 +299,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckVTKSettings(vtkRenderer* ren)
     return "an ImageQuantity other than DEPTH needs RenderToImage with a float depth image";
   }
   return std::string();
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetPartitions(
+  unsigned short x, unsigned short y, unsigned short z)
+{
+  this->Partitioned = x > 1 || y > 1 || z > 1;
+  this->Superclass::SetPartitions(x, y, z);
 }
 
 //------------------------------------------------------------------------------

@@ -263,6 +263,15 @@ public:
    */
   vtkGetMacro(DoublePrecisionRays, vtkTypeBool);
 
+  /**
+   * The shader reads the whole volume from one texture: a volume split into
+   * partitions is refused with an error and nothing drawn. This hides the
+   * superclass's SetPartitions (not virtual); partitions set through a
+   * vtkOpenGLGPUVolumeRayCastMapper pointer are caught by the shader, which
+   * draws every ray as failed (magenta), never from a block.
+   */
+  void SetPartitions(unsigned short x, unsigned short y, unsigned short z);
+
   ///@{
   /**
    * Whether to use double precision where the context has it (default on).
@@ -352,6 +361,7 @@ protected:
   vtkTypeBool EmptySpaceSkipping = 1;
   vtkTypeBool DoublePrecisionRays = 0;
   vtkTypeBool UseDoublePrecision = 1;
+  bool Partitioned = false; // SetPartitions asked for more than one block
 
 private:
   vtkOpenGLAdaptiveVolumeMapper(const vtkOpenGLAdaptiveVolumeMapper&) = delete;

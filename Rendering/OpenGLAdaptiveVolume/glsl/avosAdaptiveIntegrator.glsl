@@ -2028,13 +2028,30 @@ bool avos_setUpRay()
 
 vec4 avos_result;
 
+// Whether the texture holds the whole volume (a texel per point, or per cell
+// for cell scalars): VTK renders a volume split into partitions one block
+// at a time, each with a texture of its own, which the rays cannot read.
+bool avos_wholeVolume()
+{
+  ivec3 texels = ivec3(avos_dimensions) - (avos_fieldKind >= 2 ? ivec3(1) : ivec3(0));
+  return textureSize(in_volume[0], 0) == texels;
+}
+
 // Casts this fragment's ray with the chosen method into avos_result
-// (premultiplied RGBA over black).
+// (premultiplied RGBA over black); a volume not held whole is reported as a
+// failed ray (alpha -1), never drawn from a block.
 void avos_castRay()
 {
   avos_samples = 0;
   avos_attempts = 0;
   avos_result = vec4(0.0);
+  if (!avos_wholeVolume())
+  {
+    avos_rayEntry = -1.0;
+    avos_rayLength = 0.0;
+    avos_result = vec4(0.0, 0.0, 0.0, -1.0);
+    return;
+  }
   if (!avos_setUpRay())
   {
     return;

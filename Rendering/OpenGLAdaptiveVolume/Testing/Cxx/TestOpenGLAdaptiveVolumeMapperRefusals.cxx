@@ -39,6 +39,21 @@ int DrawnPixels(vtkRenderWindow* window)
   }
   return drawn;
 }
+
+// Pixels drawn pure magenta: the mapper's failed rays.
+int MagentaPixels(vtkRenderWindow* window)
+{
+  vtkNew<vtkUnsignedCharArray> pixels;
+  const int* size = window->GetSize();
+  window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 0, pixels);
+  int magenta = 0;
+  for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i)
+  {
+    magenta += pixels->GetValue(3 * i) == 255 && pixels->GetValue(3 * i + 1) == 0 &&
+      pixels->GetValue(3 * i + 2) == 255;
+  }
+  return magenta;
+}
 }
 
 int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
@@ -140,6 +155,9 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
       mapper->SetBlendModeToComposite();
       mapper->UseDoublePrecisionOn();
     });
+  refused(
+    "partitions", "partitions", [&] { mapper->SetPartitions(2, 1, 1); },
+    [&] { mapper->SetPartitions(1, 1, 1); });
   refused(
     "minimum above maximum step", "minimum step exceeds", [&] { mapper->SetMinimumStep(3.0); },
     [&] { mapper->SetMinimumStep(0.1); });
@@ -264,5 +282,23 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   window->Render();
   check(
     DrawnPixels(window) == valid, "the first transfer function draws its whole footprint again");
+
+  // Partitions set where the check cannot see them (through the
+  // superclass, whose SetPartitions is not virtual): VTK renders the blocks
+  // one by one, and the shader, finding a texture that does not hold the
+  // whole volume, draws every ray as failed (magenta), never from a block.
+  // (VTK splits the texture when it loads it anew: the input changed.)
+  static_cast<vtkOpenGLGPUVolumeRayCastMapper*>(mapper.Get())->SetPartitions(2, 1, 1);
+  source->Modified();
+  window->Render();
+  check(MagentaPixels(window) > 0 && MagentaPixels(window) == DrawnPixels(window),
+    "partitions through the superclass draw failed rays only (" +
+      std::to_string(MagentaPixels(window)) + " magenta of " + std::to_string(DrawnPixels(window)) +
+      " pixels)");
+  mapper->SetPartitions(1, 1, 1);
+  source->Modified();
+  window->Render();
+  check(DrawnPixels(window) == valid && MagentaPixels(window) == 0,
+    "one partition draws the volume again");
   return check.Result();
 }
