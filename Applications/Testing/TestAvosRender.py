@@ -396,7 +396,7 @@ for args, message in [((), "no input"),
                       ((VOLUME, "--method", "riemann", "--step", "1e-6"), "--step must be within"),
                       ((VOLUME, "--hmin", "0"), "--hmin must be within"),
                       ((VOLUME, "--threads", "-1"), "--threads"),
-                      ((VOLUME, "--method", "gpu-coupled", "--shade"), "Shading")]:
+                      ((VOLUME, "--method", "gpu-piecewise", "--shade"), "does not shade")]:
     code, out = run(*args)
     check(code not in (0, -6, -11) and message in out, "%s -> %r: %s" % (args, message, out))
 

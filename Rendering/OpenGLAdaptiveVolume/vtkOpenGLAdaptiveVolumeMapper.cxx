@@ -4,6 +4,7 @@
 #include "avosClippingPlanes.h"
 #include "avosEmptySpaceRanges.h"
 #include "avosImageGrid.h"
+#include "avosShadingFromRenderer.h"
 #include "avosTransferFunctionFromProperty.h"
 #include "avosVolumeInput.h"
 #include "vtkAdaptiveVolumeMapper.h"
@@ -11,6 +12,7 @@
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -44,6 +46,9 @@ constexpr int ReservedUniformVectors = 256;
 
 // The clipping planes the shader takes (as VTK's GPU mapper).
 constexpr int MaximumClippingPlanes = 6;
+
+// The light slots of the shader (avos_lit writes each out).
+constexpr int MaximumLights = 8;
 
 // The field the scalars make, as the shader's avos_fieldKind numbers it
 // (the CPU mapper's engine::ScalarField): point scalars trilinear or
@@ -173,6 +178,12 @@ public:
   // The field of this frame's scalars (PrepareFrame).
   Field ScalarField = Field::Trilinear;
 
+  // This frame's shading (UpdateShading): the property's and the
+  // renderer's lights.
+  bool Shade = false;
+  avos::numerics::ShadingModel<double> Shading;
+  std::vector<double> ShadingKey;
+
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
   // change) and their visibility as a 3D texture (rebuilt when the ranges or
   // the transfer function change).
@@ -221,7 +232,50 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     problem = this->CheckMethodSettings();
   }
-  return problem.empty() ? avos::UnsupportedPropertySettings(property, false, true) : problem;
+  if (problem.empty())
+  {
+    problem = avos::UnsupportedPropertySettings(property, true, true);
+  }
+  return problem.empty() ? this->CheckShading(property) : problem;
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckShading(vtkVolumeProperty* property)
+{
+  if (!property || !property->GetShade(0))
+  {
+    return std::string();
+  }
+  // The CPU mapper's rules, in the sampled methods (their samples are lit).
+  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  {
+    return "the GPU's piecewise method does not shade (its certified lit colour is the CPU "
+           "mapper's): turn the property's Shade off, use a sampled method, or "
+           "vtkAdaptiveVolumeMapper";
+  }
+  if (static_cast<Field>(this->ScalarFieldOf(property)) != Field::Trilinear)
+  {
+    return "Cannot shade: only point scalars with linear interpolation are shaded (a field "
+           "constant per cell has no gradient; cell scalars' between their centres is not "
+           "modelled)";
+  }
+  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return "Cannot shade: shading applies to the composite blend mode only, not to projections; "
+           "turn the property's Shade off";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+int vtkOpenGLAdaptiveVolumeMapper::ScalarFieldOf(vtkVolumeProperty* property)
+{
+  int cellFlag = 0;
+  vtkAbstractMapper::GetScalars(this->GetInput(), this->ScalarMode, this->ArrayAccessMode,
+    this->ArrayId, this->ArrayName, cellFlag);
+  const bool nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
+  return static_cast<int>(cellFlag != 0 ? (nearest ? Field::Cells : Field::CellCentres)
+                                        : (nearest ? Field::Nearest : Field::Trilinear));
 }
 
 //------------------------------------------------------------------------------
@@ -360,6 +414,7 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetVolumeUniforms(uniforms);
   this->SetPieceUniforms(uniforms);
   this->SetMethodUniforms(uniforms);
+  this->SetShadingUniforms(uniforms, gridToWorld);
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
   this->SetCutUniforms(uniforms);
@@ -392,19 +447,19 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return error;
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  int cellFlag = 0;
-  vtkAbstractMapper::GetScalars(
-    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag)
-    ->GetRange(this->Internals->DataRange, 0);
-  const bool nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
-  this->Internals->ScalarField = cellFlag != 0 ? (nearest ? Field::Cells : Field::CellCentres)
-                                               : (nearest ? Field::Nearest : Field::Trilinear);
+  this->GetRenderedScalars()->GetRange(this->Internals->DataRange, 0);
+  this->Internals->ScalarField = static_cast<Field>(this->ScalarFieldOf(property));
   voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
   if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
   {
     return "the image's spacing or the volume's matrix is degenerate";
   }
   error = avos::ClipRegionOfMapper(this, input, gridToWorld->GetData(), this->Internals->Clip);
+  if (!error.empty())
+  {
+    return error;
+  }
+  error = this->UpdateShading(ren, property);
   if (!error.empty())
   {
     return error;
@@ -424,6 +479,31 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
   if (std::abs(w[0]) + std::abs(w[1]) > 1e-12 * (std::abs(w[2]) + std::abs(w[3])))
   {
     return "the camera's projection is not a perspective or parallel one";
+  }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::UpdateShading(
+  vtkRenderer* ren, vtkVolumeProperty* property)
+{
+  // (CheckShading has checked the rules.)
+  vtkInternals& internals = *this->Internals;
+  internals.Shade = property->GetShade(0) != 0;
+  if (!internals.Shade)
+  {
+    return std::string();
+  }
+  std::string error =
+    avos::ShadingFromRenderer(ren, property, internals.Shading, internals.ShadingKey);
+  if (!error.empty())
+  {
+    return "Cannot shade: " + error;
+  }
+  if (internals.Shading.Lights.size() > static_cast<std::size_t>(MaximumLights))
+  {
+    return "Cannot shade with " + std::to_string(internals.Shading.Lights.size()) +
+      " lights switched on: the GPU mapper takes at most " + std::to_string(MaximumLights);
   }
   return std::string();
 }
@@ -687,6 +767,62 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
   uniforms->SetUniform4fv("avos_ppC", count, reinterpret_cast<const float(*)[4]>(c.data()));
   uniforms->SetUniform4fv("avos_ppS", count, reinterpret_cast<const float(*)[4]>(s.data()));
   uniforms->SetUniformi("avos_ppCount", count);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetShadingUniforms(
+  vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld)
+{
+  // See the shader's avos_lit. Every slot is uploaded (fixed array sizes).
+  const vtkInternals& internals = *this->Internals;
+  const avos::numerics::ShadingModel<double>& model = internals.Shading;
+  uniforms->SetUniformi("avos_shade", internals.Shade ? 1 : 0);
+  const float coefficients[4] = { float(model.Ambient), float(model.Diffuse), float(model.Specular),
+    float(model.SpecularPower) };
+  uniforms->SetUniform4f("avos_shading", coefficients);
+  uniforms->SetUniformi("avos_twoSided", model.TwoSided ? 1 : 0);
+  const int count = internals.Shade ? static_cast<int>(model.Lights.size()) : 0;
+  uniforms->SetUniformi("avos_lightCount", count);
+  float position[MaximumLights][4] = {}, diffuse[MaximumLights][4] = {},
+        specular[MaximumLights][4] = {}, attenuation[MaximumLights][4] = {},
+        axis[MaximumLights][4] = {};
+  for (int i = 0; i < count; ++i)
+  {
+    const auto& light = model.Lights[static_cast<std::size_t>(i)];
+    const auto& at = light.Positional ? light.Position : light.Direction;
+    const double cone =
+      light.IsSpot() ? std::cos(vtkMath::RadiansFromDegrees(light.ConeAngle)) : -3.0; // no cone
+    for (int k = 0; k < 3; ++k)
+    {
+      position[i][k] = float(at[k]);
+      diffuse[i][k] = float(light.Diffuse[k]);
+      specular[i][k] = float(light.Specular[k]);
+      attenuation[i][k] = float(light.Attenuation[k]);
+      axis[i][k] = float(light.Axis[k]);
+    }
+    position[i][3] = light.Positional ? 1.0f : 0.0f;
+    attenuation[i][3] = float(cone);
+    axis[i][3] = float(light.Exponent);
+  }
+  uniforms->SetUniform4fv("avos_lightPosition", MaximumLights, position);
+  uniforms->SetUniform4fv("avos_lightDiffuse", MaximumLights, diffuse);
+  uniforms->SetUniform4fv("avos_lightSpecular", MaximumLights, specular);
+  uniforms->SetUniform4fv("avos_lightAttenuation", MaximumLights, attenuation);
+  uniforms->SetUniform4fv("avos_lightAxis", MaximumLights, axis);
+  // The rows of the grid-to-world map's affine part and of the normal
+  // matrix (grid gradients to world: glm's columns).
+  const glm::dmat3 normal = avos::NormalMatrix(gridToWorld->GetData());
+  float rows[3][4], normalRows[3][4];
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 4; ++c)
+    {
+      rows[r][c] = float(gridToWorld->GetElement(r, c));
+      normalRows[r][c] = c < 3 ? float(normal[c][r]) : 0.0f;
+    }
+  }
+  uniforms->SetUniform4fv("avos_gridToWorld", 3, rows);
+  uniforms->SetUniform4fv("avos_normalRows", 3, normalRows);
 }
 
 //------------------------------------------------------------------------------

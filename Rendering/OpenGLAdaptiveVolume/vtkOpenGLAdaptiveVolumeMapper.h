@@ -84,7 +84,13 @@
  * otherwise and for double, which VTK scales onto [0, 1] in float), the
  * blend modes above (all of vtkVolumeMapper's but the isosurface and
  * slice blends), clipping planes, cropping, linear and nearest interpolation, 1D
- * transfer functions without shading. Refused with an error and nothing
+ * transfer functions, shading in the sampled methods (Riemann, coupled,
+ * decoupled): each sample lit by vtkAdaptiveVolumeMapper's rule
+ * (numerics::ShadingModel: the exact gradient of the trilinear field,
+ * Blinn-Phong with the property's coefficients, the renderer's switched-on
+ * lights, directional, positional and spot, up to 8, two-sided or not,
+ * ambient alone where the gradient vanishes, clamped), point scalars with
+ * linear interpolation in the composite blend. Refused with an error and nothing
  * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
  * -32768 (VTK's normalised texture reads them as the next value up), other
  * scalar types, several components, the isosurface and slice blends, the
@@ -92,7 +98,8 @@
  * cropping an input with a direction matrix or negative spacing, more than
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
- * shading, gradient opacity, 2D transfer functions, dual depth peeling of
+ * shading in the piecewise method (the CPU mapper's certified lit colour is
+ * not in the shader), more than 8 lights, gradient opacity, 2D transfer functions, dual depth peeling of
  * volumes, invalid tolerances or steps, transfer functions with more pieces
  * than the GPU's uniform storage holds.
  *
@@ -318,6 +325,7 @@ protected:
    */
   std::string PrepareFrame(
     vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
+  std::string UpdateShading(vtkRenderer* ren, vtkVolumeProperty* property);
   std::string UpdateTransferFunction(
     vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld, double voxel);
   void AddShaderReplacements(vtkOpenGLShaderProperty* shaderProperty);
@@ -325,6 +333,7 @@ protected:
   void SetPieceUniforms(vtkUniforms* uniforms);
   void SetPiecewiseUniforms(vtkUniforms* uniforms);
   void SetMethodUniforms(vtkUniforms* uniforms);
+  void SetShadingUniforms(vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld);
   void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
   void SetRayUniforms(
     vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);
@@ -336,18 +345,28 @@ protected:
    * CheckRenderable's parts: the input (image data, point or cell scalars of one
    * component in a type the shader reads), VTK's mapper settings (blend
    * mode, the number of planes, masks, jittering, depth pass, range types, depth
-   * peeling, the image quantity), the method's (tolerance, steps). Each
-   * returns why not, or an empty string.
+   * peeling, the image quantity), the method's (tolerance, steps), the
+   * shading rules (the sampled methods shade point scalars with linear
+   * interpolation, in the composite blend). Each returns why not, or an
+   * empty string.
    */
   std::string CheckInput();
   std::string CheckVTKSettings(vtkRenderer* ren);
   std::string CheckMethodSettings();
+  std::string CheckShading(vtkVolumeProperty* property);
   ///@}
 
   /**
    * The scalars rendered (point or cell scalars of one component, as CheckRenderable requires).
    */
   vtkDataArray* GetRenderedScalars();
+
+  /**
+   * The field the scalars make with `property`'s interpolation (the shader's
+   * avos_fieldKind: 0 point scalars, linear; 1 point scalars, nearest; 2
+   * cell scalars, nearest; 3 cell scalars, linear).
+   */
+  int ScalarFieldOf(vtkVolumeProperty* property);
 
   int IntegrationMethod = ADAPTIVE_COUPLED;
   int OpacityModel = VTK_OPACITY;

@@ -228,7 +228,41 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
     "a clipping plane with a transform", "with a transform",
     [&] { mapper->AddClippingPlane(transformed); }, [&] { mapper->RemoveAllClippingPlanes(); });
   refused(
-    "shading", "Shading", [&] { property->ShadeOn(); }, [&] { property->ShadeOff(); });
+    "shading in the piecewise method", "does not shade",
+    [&]
+    {
+      property->ShadeOn();
+      mapper->SetIntegrationMethodToPiecewiseAdaptive();
+    },
+    [&]
+    {
+      property->ShadeOff();
+      mapper->SetIntegrationMethodToAdaptiveCoupled();
+    });
+  refused(
+    "shading a projection", "composite blend mode only",
+    [&]
+    {
+      property->ShadeOn();
+      mapper->SetBlendModeToMaximumIntensity();
+    },
+    [&]
+    {
+      property->ShadeOff();
+      mapper->SetBlendModeToComposite();
+    });
+  refused(
+    "shading nearest interpolation", "linear interpolation are shaded",
+    [&]
+    {
+      property->ShadeOn();
+      property->SetInterpolationTypeToNearest();
+    },
+    [&]
+    {
+      property->ShadeOff();
+      property->SetInterpolationTypeToLinear();
+    });
   refused(
     "an image quantity without a float depth image", "float depth image",
     [&] { mapper->SetImageQuantity(vtkOpenGLAdaptiveVolumeMapper::ALPHA); },

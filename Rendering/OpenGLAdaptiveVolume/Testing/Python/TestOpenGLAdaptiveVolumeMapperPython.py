@@ -14,8 +14,8 @@ from vtkmodules.test import Testing
 from vtkmodules import vtkCommonCore
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vtkPlane
-from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderWindow, vtkRenderer,
-                                         vtkVolume, vtkVolumeProperty)
+from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkLight, vtkRenderWindow,
+                                         vtkRenderer, vtkVolume, vtkVolumeProperty)
 from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
 from vtkmodules.vtkImagingCore import vtkImageShiftScale
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
@@ -49,6 +49,10 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         volume.SetProperty(self.prop)
         renderer = vtkRenderer()
         renderer.AddVolume(volume)
+        if getattr(self, "light", None):
+            renderer.CreateLight()  # the headlight first, as VTK makes it
+            renderer.AddLight(self.light)
+        renderer.SetTwoSidedLighting(getattr(self, "twoSided", True))
         window = vtkRenderWindow()
         window.SetOffScreenRendering(1)
         window.SetMultiSamples(0)
@@ -279,6 +283,45 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             worst, covered = self.gpuDifference(configure, expected)
             self.assertGreater(covered, SIZE * SIZE // 8, name)
             self.assertLessEqual(worst, bound, name)
+
+    def testShadingAsTheCPUMapper(self):
+        # The CPU mapper's shading (the exact gradient of the trilinear
+        # field, Blinn-Phong, the renderer's lights) in the sampled methods:
+        # the headlight alone, then with a coloured spot light whose cone
+        # cuts the volume, and one-sided. Riemann: the same samples lit in
+        # float against double; coupled: both within eps of the shaded
+        # integral (the same rule on the same samples).
+        self.prop.ShadeOn()
+        self.prop.SetSpecularPower(32.0)
+        spot = vtkLight()
+        spot.SetPositional(1)
+        spot.SetPosition(2.0, 1.5, 1.0)
+        spot.SetFocalPoint(0.0, 0.0, 0.0)
+        spot.SetConeAngle(25.0)
+        spot.SetExponent(2.0)
+        spot.SetAttenuationValues(1.0, 0.2, 0.0)
+        spot.SetColor(1.0, 0.6, 0.3)
+        def difference(a, b):
+            return max(abs(a.GetComponent(i, k) - b.GetComponent(i, k))
+                       for i in range(SIZE * SIZE) for k in range(3))
+        self.prop.ShadeOff()
+        previous = self.cpuImage(lambda m: m.SetIntegrationMethodToRiemann())
+        self.prop.ShadeOn()
+        for lights, twoSided in ((None, True), (spot, True), (spot, False)):
+            self.light = lights
+            self.twoSided = twoSided
+            for method, bound in (("Riemann", 1e-4), ("AdaptiveCoupled", 1e-3)):
+                def configure(mapper):
+                    getattr(mapper, "SetIntegrationMethodTo" + method)()
+                    mapper.SetTolerance(1e-3)
+                expected = self.cpuImage(configure)
+                case = "%s, spot %s, two-sided %s" % (method, lights is not None, twoSided)
+                if method == "Riemann":  # each setting changes the image
+                    self.assertGreater(difference(expected, previous), 0.05, case)
+                    previous = expected
+                worst, covered = self.gpuDifference(configure, expected)
+                self.assertGreater(covered, SIZE * SIZE // 8, case)
+                self.assertLessEqual(worst, bound, case)
 
     def testNearestAndCellScalarsAsTheCPUMapper(self):
         # Nearest interpolation of point scalars (vtkVolumeProperty's
