@@ -99,9 +99,9 @@
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
  * shading in the piecewise method (the CPU mapper's certified lit colour is
- * not in the shader), more than 8 lights, gradient opacity, 2D transfer functions, dual depth peeling of
- * volumes, invalid tolerances or steps, transfer functions with more pieces
- * than the GPU's uniform storage holds.
+ * not in the shader), more than 8 lights, gradient opacity, 2D transfer functions, dual depth
+ * peeling of volumes, invalid tolerances or steps, transfer functions with more pieces than the
+ * GPU's uniform storage holds.
  *
  * Empty space is skipped exactly: blocks of 4^3 cells whose value range
  * the transfer function maps to zero opacity are left out of every ray (a
