@@ -47,8 +47,12 @@ constexpr int ReservedUniformVectors = 256;
 // The clipping planes the shader takes (as VTK's GPU mapper).
 constexpr int MaximumClippingPlanes = 6;
 
-// The light slots of the shader (avos_lit writes each out).
+// The light slots of the shader (avos_lit's).
 constexpr int MaximumLights = 8;
+
+// The most pieces of a gradient opacity function the shader searches
+// (avos_gradientFactor's 7 steps).
+constexpr int MaximumGradientPieces = 128;
 
 // The field the scalars make, as the shader's avos_fieldKind numbers it
 // (the CPU mapper's engine::ScalarField): point scalars trilinear or
@@ -184,6 +188,11 @@ public:
   avos::numerics::ShadingModel<double> Shading;
   std::vector<double> ShadingKey;
 
+  // This frame's gradient opacity (UpdateShading): G as the opacity knots of
+  // a transfer function over the gradient's magnitude.
+  bool UsesGradientOpacity = false;
+  avos::numerics::TransferFunction<double> GradientFunction;
+
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
   // change) and their visibility as a 3D texture (rebuilt when the ranges or
   // the transfer function change).
@@ -234,7 +243,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   }
   if (problem.empty())
   {
-    problem = avos::UnsupportedPropertySettings(property, true, true);
+    problem = avos::UnsupportedPropertySettings(property, true, true, 1, true);
   }
   return problem.empty() ? this->CheckShading(property) : problem;
 }
@@ -242,11 +251,27 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
 //------------------------------------------------------------------------------
 std::string vtkOpenGLAdaptiveVolumeMapper::CheckShading(vtkVolumeProperty* property)
 {
-  if (!property || !property->GetShade(0))
+  if (!property)
   {
     return std::string();
   }
-  // The CPU mapper's rules, in the sampled methods (their samples are lit).
+  // The CPU mapper's rules, in the sampled methods (their samples are lit
+  // and scaled).
+  const bool gradientOpacity = avos::UsesGradientOpacity(property, 0);
+  if (gradientOpacity &&
+    (this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
+      this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND ||
+      static_cast<Field>(this->ScalarFieldOf(property)) != Field::Trilinear))
+  {
+    return "Gradient opacity is supported by the GPU's sampled methods (not its piecewise "
+           "method: its certified version is vtkAdaptiveVolumeMapper's) with point scalars, "
+           "linear interpolation and the composite blend; disable the property's gradient "
+           "opacity";
+  }
+  if (!property->GetShade(0))
+  {
+    return std::string();
+  }
   if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
   {
     return "the GPU's piecewise method does not shade (its certified lit colour is the CPU "
@@ -415,6 +440,7 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetPieceUniforms(uniforms);
   this->SetMethodUniforms(uniforms);
   this->SetShadingUniforms(uniforms, gridToWorld);
+  this->SetGradientOpacityUniforms(uniforms);
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
   this->SetCutUniforms(uniforms);
@@ -489,6 +515,27 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateShading(
 {
   // (CheckShading has checked the rules.)
   vtkInternals& internals = *this->Internals;
+  internals.UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
+  if (internals.UsesGradientOpacity)
+  {
+    int approximated = 0;
+    const std::string error =
+      avos::GradientOpacityFromProperty(property, internals.GradientFunction, approximated);
+    if (!error.empty())
+    {
+      return "unusable gradient opacity: " + error;
+    }
+    if (approximated > 0)
+    {
+      vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
+    }
+    if (internals.GradientFunction.GetPieces().size() >
+      static_cast<std::size_t>(MaximumGradientPieces))
+    {
+      return "the gradient opacity function has more than " +
+        std::to_string(MaximumGradientPieces) + " pieces";
+    }
+  }
   internals.Shade = property->GetShade(0) != 0;
   if (!internals.Shade)
   {
@@ -823,6 +870,30 @@ void vtkOpenGLAdaptiveVolumeMapper::SetShadingUniforms(
   }
   uniforms->SetUniform4fv("avos_gridToWorld", 3, rows);
   uniforms->SetUniform4fv("avos_normalRows", 3, normalRows);
+}
+
+//------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::SetGradientOpacityUniforms(vtkUniforms* uniforms)
+{
+  // G's pieces (see the shader's avos_gradientFactor); the gradient's map
+  // to world space is the shading's (SetShadingUniforms).
+  const vtkInternals& internals = *this->Internals;
+  uniforms->SetUniformi("avos_gradientOpacity", internals.UsesGradientOpacity ? 1 : 0);
+  float pieces[MaximumGradientPieces][4] = {};
+  const auto& g = internals.GradientFunction.GetPieces();
+  const int count = internals.UsesGradientOpacity ? static_cast<int>(g.size()) : 0;
+  for (int i = 0; i < count; ++i)
+  {
+    const auto& p = g[static_cast<std::size_t>(i)];
+    pieces[i][0] = float(p.Start);
+    pieces[i][1] = float(p.Length);
+    pieces[i][2] = float(p.Opacity);
+    pieces[i][3] = float(p.OpacitySlope);
+  }
+  uniforms->SetUniform4fv("avos_gPiece", MaximumGradientPieces, pieces);
+  uniforms->SetUniformi("avos_gCount", std::max(count, 1));
+  uniforms->SetUniformf(
+    "avos_gBelow", count > 0 ? float(internals.GradientFunction.GetOpacityBelow()) : 1.0f);
 }
 
 //------------------------------------------------------------------------------

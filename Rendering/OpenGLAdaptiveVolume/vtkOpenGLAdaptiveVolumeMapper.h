@@ -90,7 +90,10 @@
  * Blinn-Phong with the property's coefficients, the renderer's switched-on
  * lights, directional, positional and spot, up to 8, two-sided or not,
  * ambient alone where the gradient vanishes, clamped), point scalars with
- * linear interpolation in the composite blend. Refused with an error and nothing
+ * linear interpolation in the composite blend; gradient opacity in the
+ * sampled methods (numerics::GradientOpacity: a sample's extinction times G
+ * of the exact gradient's length in scalar units per world unit, G of up
+ * to 128 pieces), as on the CPU. Refused with an error and nothing
  * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
  * -32768 (VTK's normalised texture reads them as the next value up), other
  * scalar types, several components, the isosurface and slice blends, the
@@ -99,7 +102,8 @@
  * 6 clipping planes or one with a transform, masks, jittering, the depth
  * pass, NATIVE transfer-function ranges, a vtkMultiVolume's further inputs,
  * shading in the piecewise method (the CPU mapper's certified lit colour is
- * not in the shader), more than 8 lights, gradient opacity, 2D transfer functions, dual depth
+ * not in the shader), more than 8 lights, gradient opacity in the piecewise method, projections
+ * or other fields, 2D transfer functions, dual depth
  * peeling of volumes, invalid tolerances or steps, transfer functions with more pieces than the
  * GPU's uniform storage holds.
  *
@@ -314,14 +318,16 @@ protected:
   /**
    * The stages of GPURender, in the order data flows: the frame checked and
    * prepared (CheckRenderable, the grid-to-world matrix and the voxel size,
-   * the clipping planes, then UpdateTransferFunction: the transfer function
-   * rebuilt when the property changed, the piecewise method's pieces when it
-   * or the tolerance did, their uniforms' room; an error message or empty),
-   * the shader's replacements, the uniforms of the volume, of the
-   * transfer function's pieces (and the piecewise method's) and of the
-   * method, the empty-space blocks' texture (uploaded when the ranges or the
-   * transfer function change), the rays' uniforms for this camera and the
-   * cuts' (clipping planes and cropping in grid coordinates).
+   * the clipping planes, UpdateShading: the lights and the gradient opacity
+   * function, then UpdateTransferFunction: the transfer function rebuilt
+   * when the property changed, the piecewise method's pieces when it or the
+   * tolerance did, their uniforms' room; an error message or empty), the
+   * shader's replacements, the uniforms of the volume, of the transfer
+   * function's pieces (and the piecewise method's), of the method, of the
+   * shading and of the gradient opacity, the empty-space blocks' texture
+   * (uploaded when the ranges or the transfer function change), the rays'
+   * uniforms for this camera and the cuts' (clipping planes and cropping in
+   * grid coordinates).
    */
   std::string PrepareFrame(
     vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
@@ -334,6 +340,7 @@ protected:
   void SetPiecewiseUniforms(vtkUniforms* uniforms);
   void SetMethodUniforms(vtkUniforms* uniforms);
   void SetShadingUniforms(vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld);
+  void SetGradientOpacityUniforms(vtkUniforms* uniforms);
   void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
   void SetRayUniforms(
     vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);

@@ -394,16 +394,15 @@ void avos_light(int i, vec3 x, vec3 n, vec3 v, inout vec3 diffuse, inout vec3 sp
   specular += (attenuation * avos_facingPower(nh, avos_shading.w)) * avos_lightSpecular[i].rgb;
 }
 
-// The colour of the sample at t lit. The first light is written out, a
+// The colour of the sample at grid position g, whose world-space gradient
+// is `gradient`, lit. The first light is written out, a
 // loop takes the others: llvmpipe counts a loop's iterations against its
 // limit (avos_castRay), and a loop over the headlight alone cut 9.4 % of
 // Bonsai's shaded coupled rays at eps 1e-3 short (7.6 % now, the adaptive
 // rule's own steps); all eight slots written out made the shader take four
 // times as long to compile.
-vec3 avos_lit(vec3 colour, avos_real t)
+vec3 avos_lit(vec3 colour, vec3 gradient, avos_real3 g)
 {
-  avos_real3 g = avos_rayOrigin + t * avos_rayDirection;
-  vec3 gradient = avos_toWorld(avos_normalRows, vec4(avos_gradient(g), 0.0));
   vec3 ambient = avos_shading.x * colour;
   float squared = dot(gradient, gradient);
   if (!(squared > 0.0) || isinf(squared))
@@ -427,15 +426,56 @@ vec3 avos_lit(vec3 colour, avos_real t)
   return clamp(value, vec3(0.0), vec3(1.0));
 }
 
+// ----------------------------------------------------- gradient opacity
+// The sampled methods' gradient opacity (avos_gradientOpacity 1;
+// numerics::GradientOpacity): a sample's extinction times G(|g|), |g| the
+// length of the world-space gradient (scalar units per world unit), G the
+// property's gradient opacity function clamped to [0, 1], held as its
+// pieces avos_gPiece = (start, length, value, slope) (avos_gCount of them,
+// at most 128) and avos_gBelow below the first. The last piece starting at
+// or below |g| by a binary search of 7 steps, written out.
+#define AVOS_G_STEP(k)                                                                             \
+  next = lo + k;                                                                                   \
+  lo = next < avos_gCount && avos_gPiece[min(next, avos_gCount - 1)].x <= g ? next : lo;
+float avos_gradientFactor(float g)
+{
+  if (!(g >= avos_gPiece[0].x))
+  {
+    return clamp(avos_gBelow, 0.0, 1.0);
+  }
+  int lo = 0;
+  int next;
+  AVOS_G_STEP(64)
+  AVOS_G_STEP(32)
+  AVOS_G_STEP(16)
+  AVOS_G_STEP(8)
+  AVOS_G_STEP(4)
+  AVOS_G_STEP(2)
+  AVOS_G_STEP(1)
+  vec4 p = avos_gPiece[lo];
+  return clamp(p.z + p.w * clamp(g - p.x, 0.0, p.y), 0.0, 1.0);
+}
+
+// The sample at t: its scalar, extinction (times G with gradient opacity)
+// and colour (lit when shading).
 avos_Sample avos_sample(avos_real t)
 {
   ++avos_samples;
   avos_Sample s;
-  s.Scalar = avos_field(avos_rayOrigin + t * avos_rayDirection);
+  avos_real3 g = avos_rayOrigin + t * avos_rayDirection;
+  s.Scalar = avos_field(g);
   avos_classify(s.Scalar, s.Tau, s.Colour);
-  if (avos_shade != 0 && s.Tau > 0.0)
+  if ((avos_shade != 0 || avos_gradientOpacity != 0) && s.Tau > 0.0)
   {
-    s.Colour = avos_lit(s.Colour, t);
+    vec3 gradient = avos_toWorld(avos_normalRows, vec4(avos_gradient(g), 0.0));
+    if (avos_gradientOpacity != 0)
+    {
+      s.Tau *= avos_gradientFactor(length(gradient));
+    }
+    if (avos_shade != 0)
+    {
+      s.Colour = avos_lit(s.Colour, gradient, g);
+    }
   }
   return s;
 }

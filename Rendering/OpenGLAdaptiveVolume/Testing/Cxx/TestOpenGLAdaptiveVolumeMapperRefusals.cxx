@@ -239,6 +239,22 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
       property->ShadeOff();
       mapper->SetIntegrationMethodToAdaptiveCoupled();
     });
+  vtkNew<vtkPiecewiseFunction> gradientOpacity;
+  gradientOpacity->AddPoint(0.0, 0.2);
+  gradientOpacity->AddPoint(1.0, 1.0);
+  refused(
+    "gradient opacity in the piecewise method",
+    "Gradient opacity is supported by the GPU's sampled",
+    [&]
+    {
+      property->SetGradientOpacity(gradientOpacity);
+      mapper->SetIntegrationMethodToPiecewiseAdaptive();
+    },
+    [&]
+    {
+      property->DisableGradientOpacityOn();
+      mapper->SetIntegrationMethodToAdaptiveCoupled();
+    });
   refused(
     "shading a projection", "composite blend mode only",
     [&]

@@ -323,6 +323,33 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
                 self.assertGreater(covered, SIZE * SIZE // 8, case)
                 self.assertLessEqual(worst, bound, case)
 
+    def testGradientOpacityAsTheCPUMapper(self):
+        # The CPU mapper's gradient opacity (the extinction times G of the
+        # exact gradient's length, scalar units per world unit) in the
+        # sampled methods, unshaded and shaded, with a G whose knots the
+        # field's gradients cross: as in testShadingAsTheCPUMapper.
+        gradient = vtkPiecewiseFunction()
+        gradient.AddPoint(0.0, 0.1)
+        gradient.AddPoint(1.0, 1.0)
+        gradient.AddPoint(3.0, 0.3)
+        plain = self.cpuImage(lambda m: m.SetIntegrationMethodToRiemann())
+        self.prop.SetGradientOpacity(gradient)
+        for shade in (False, True):
+            self.prop.SetShade(shade)
+            for method, bound in (("Riemann", 1e-4), ("AdaptiveCoupled", 1e-3)):
+                def configure(mapper):
+                    getattr(mapper, "SetIntegrationMethodTo" + method)()
+                    mapper.SetTolerance(1e-3)
+                expected = self.cpuImage(configure)
+                case = "%s, shaded %s" % (method, shade)
+                if method == "Riemann" and not shade:
+                    changed = max(abs(expected.GetComponent(i, 3) - plain.GetComponent(i, 3))
+                                  for i in range(SIZE * SIZE))
+                    self.assertGreater(changed, 0.05, "G changes the image")
+                worst, covered = self.gpuDifference(configure, expected)
+                self.assertGreater(covered, SIZE * SIZE // 16, case)
+                self.assertLessEqual(worst, bound, case)
+
     def testNearestAndCellScalarsAsTheCPUMapper(self):
         # Nearest interpolation of point scalars (vtkVolumeProperty's
         # default), cell scalars constant per cell (nearest) and trilinear
