@@ -188,8 +188,8 @@ public:
   avos::numerics::ShadingModel<double> Shading;
   std::vector<double> ShadingKey;
 
-  // This frame's gradient opacity (UpdateShading): G as the opacity knots of
-  // a transfer function over the gradient's magnitude.
+  // This frame's gradient opacity (UpdateGradientOpacity): G as the
+  // opacity knots of a transfer function over the gradient's magnitude.
   bool UsesGradientOpacity = false;
   avos::numerics::TransferFunction<double> GradientFunction;
 
@@ -245,11 +245,11 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     problem = avos::UnsupportedPropertySettings(property, true, true, 1, true);
   }
-  return problem.empty() ? this->CheckShading(property) : problem;
+  return problem.empty() ? this->CheckGradientSettings(property) : problem;
 }
 
 //------------------------------------------------------------------------------
-std::string vtkOpenGLAdaptiveVolumeMapper::CheckShading(vtkVolumeProperty* property)
+std::string vtkOpenGLAdaptiveVolumeMapper::CheckGradientSettings(vtkVolumeProperty* property)
 {
   if (!property)
   {
@@ -486,6 +486,10 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return error;
   }
   error = this->UpdateShading(ren, property);
+  if (error.empty())
+  {
+    error = this->UpdateGradientOpacity(property);
+  }
   if (!error.empty())
   {
     return error;
@@ -510,10 +514,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
 }
 
 //------------------------------------------------------------------------------
-std::string vtkOpenGLAdaptiveVolumeMapper::UpdateShading(
-  vtkRenderer* ren, vtkVolumeProperty* property)
+std::string vtkOpenGLAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
 {
-  // (CheckShading has checked the rules.)
+  // (CheckGradientSettings has checked where it applies.)
   vtkInternals& internals = *this->Internals;
   internals.UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
   if (internals.UsesGradientOpacity)
@@ -536,6 +539,15 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateShading(
         std::to_string(MaximumGradientPieces) + " pieces";
     }
   }
+  return std::string();
+}
+
+//------------------------------------------------------------------------------
+std::string vtkOpenGLAdaptiveVolumeMapper::UpdateShading(
+  vtkRenderer* ren, vtkVolumeProperty* property)
+{
+  // (CheckGradientSettings has checked where it applies.)
+  vtkInternals& internals = *this->Internals;
   internals.Shade = property->GetShade(0) != 0;
   if (!internals.Shade)
   {

@@ -318,8 +318,8 @@ protected:
   /**
    * The stages of GPURender, in the order data flows: the frame checked and
    * prepared (CheckRenderable, the grid-to-world matrix and the voxel size,
-   * the clipping planes, UpdateShading: the lights and the gradient opacity
-   * function, then UpdateTransferFunction: the transfer function rebuilt
+   * the clipping planes, UpdateShading: the lights, UpdateGradientOpacity:
+   * the gradient opacity function, then UpdateTransferFunction: the transfer function rebuilt
    * when the property changed, the piecewise method's pieces when it or the
    * tolerance did, their uniforms' room; an error message or empty), the
    * shader's replacements, the uniforms of the volume, of the transfer
@@ -332,6 +332,7 @@ protected:
   std::string PrepareFrame(
     vtkRenderer* ren, vtkVolume* vol, vtkMatrix4x4* gridToWorld, double& voxel);
   std::string UpdateShading(vtkRenderer* ren, vtkVolumeProperty* property);
+  std::string UpdateGradientOpacity(vtkVolumeProperty* property);
   std::string UpdateTransferFunction(
     vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld, double voxel);
   void AddShaderReplacements(vtkOpenGLShaderProperty* shaderProperty);
@@ -352,15 +353,15 @@ protected:
    * CheckRenderable's parts: the input (image data, point or cell scalars of one
    * component in a type the shader reads), VTK's mapper settings (blend
    * mode, the number of planes, masks, jittering, depth pass, range types, depth
-   * peeling, the image quantity), the method's (tolerance, steps), the
-   * shading rules (the sampled methods shade point scalars with linear
-   * interpolation, in the composite blend). Each returns why not, or an
-   * empty string.
+   * peeling, the image quantity), the method's (tolerance, steps), those
+   * that read the field's gradient (shading and gradient opacity: the
+   * sampled methods take them on point scalars with linear interpolation, in
+   * the composite blend). Each returns why not, or an empty string.
    */
   std::string CheckInput();
   std::string CheckVTKSettings(vtkRenderer* ren);
   std::string CheckMethodSettings();
-  std::string CheckShading(vtkVolumeProperty* property);
+  std::string CheckGradientSettings(vtkVolumeProperty* property);
   ///@}
 
   /**

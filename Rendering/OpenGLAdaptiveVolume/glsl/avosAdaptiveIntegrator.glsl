@@ -1,15 +1,22 @@
-// The volume rendering integral along one ray, in GLSL and float: the
-// numerical core's Riemann sum and the paper's Algorithm 3 (coupled and
-// decoupled adaptive Simpson, Algorithm 2's step control), statement for
-// statement as in avos/numerics/RayIntegrators.h and TransferFunction.h, so
-// that the CPU core in double is this code's oracle.
+// What a ray shows, in GLSL, statement for statement as the numerical core
+// computes it, so that the CPU core in double is this code's oracle: the
+// volume rendering integral by the core's Riemann sum and the paper's
+// Algorithm 3 (coupled and decoupled adaptive Simpson, Algorithm 2's step
+// control; RayIntegrators.h), their samples lit (Shading.h) and scaled by
+// gradient opacity (GradientOpacity.h); the piecewise method
+// (PiecewiseIntegrator.h); the exact maximum and minimum intensity
+// projections (Extremum.h); the additive and average projections
+// (Accumulation.h); over the four fields of point and cell scalars
+// (Volume.h), the empty-space blocks (EmptySpace.h), clipping planes and
+// cropping (ClipRegion).
 //
 // Inserted by vtkOpenGLAdaptiveVolumeMapper after VTK's declarations (it
 // reads in_volume[0], in_depthSampler, in_windowLowerLeftCorner and
 // in_inverseWindowSize); its uniforms (avos_*) are the shader property's
 // custom uniforms. Every loop below is bounded: the adaptive loop by the
 // core's MaximumAttempts (a ray that reaches it is reported as failed), the
-// Riemann loop by ceil(D / h), the searches by log2 of the knot count.
+// Riemann loop by ceil(D / h), the walks by the cells and pieces of the ray,
+// the searches by log2 of the knot count.
 
 // ---------------------------------------------------------------- the field
 // Grid point value: the texel as uploaded by VTK (normalised for integer
@@ -1712,29 +1719,27 @@ avos_real avos_averaged(avos_Cubic q, int k, avos_real u)
     (s - avos_accumulationRange.x) * avos_accumulationRange.y);
 }
 
-#define AVOS_GAUSS(x, w)                                                                           \
+// int_a^b of the average's integrand by Gauss-Legendre of 4 (coarse) and 8
+// (fine) nodes, symmetric pairs of nodes at a time.
+#define AVOS_GAUSS(sum, x, w)                                                                      \
   sum += AVOS_DOUBLE(w) *                                                                          \
-    (avos_averaged(q, k, mid - radius * AVOS_DOUBLE(x)) + avos_averaged(q, k, mid + radius * AVOS_DOUBLE(x)));
-avos_real avos_gauss4(avos_Cubic q, int k, avos_real a, avos_real b)
+    (avos_averaged(q, k, mid - radius * AVOS_DOUBLE(x)) +                                          \
+      avos_averaged(q, k, mid + radius * AVOS_DOUBLE(x)));
+void avos_gauss(avos_Cubic q, int k, avos_real a, avos_real b, out avos_real coarse,
+  out avos_real fine)
 {
   avos_real radius = avos_real(0.5) * (b - a);
   avos_real mid = avos_real(0.5) * (a + b);
-  avos_real sum = avos_real(0.0);
-  AVOS_GAUSS(0.8611363115940526, 0.3478548451374538)
-  AVOS_GAUSS(0.3399810435848563, 0.6521451548625461)
-  return radius * sum;
-}
-
-avos_real avos_gauss8(avos_Cubic q, int k, avos_real a, avos_real b)
-{
-  avos_real radius = avos_real(0.5) * (b - a);
-  avos_real mid = avos_real(0.5) * (a + b);
-  avos_real sum = avos_real(0.0);
-  AVOS_GAUSS(0.9602898564975363, 0.1012285362903763)
-  AVOS_GAUSS(0.7966664774136267, 0.2223810344533745)
-  AVOS_GAUSS(0.5255324099163290, 0.3137066458778873)
-  AVOS_GAUSS(0.1834346424956498, 0.3626837833783620)
-  return radius * sum;
+  coarse = avos_real(0.0);
+  fine = avos_real(0.0);
+  AVOS_GAUSS(coarse, 0.8611363115940526, 0.3478548451374538)
+  AVOS_GAUSS(coarse, 0.3399810435848563, 0.6521451548625461)
+  AVOS_GAUSS(fine, 0.9602898564975363, 0.1012285362903763)
+  AVOS_GAUSS(fine, 0.7966664774136267, 0.2223810344533745)
+  AVOS_GAUSS(fine, 0.5255324099163290, 0.3137066458778873)
+  AVOS_GAUSS(fine, 0.1834346424956498, 0.3626837833783620)
+  coarse *= radius;
+  fine *= radius;
 }
 
 // Average: a piece of the range's marks (avos_pp holds the pieces of
@@ -1767,8 +1772,10 @@ void avos_averagePiece(
   {
     avos_real width = avos_ldexp(length, -level);
     avos_real a = ua + avos_real(index) * width;
-    avos_real fine = avos_gauss8(q, k, a, a + width);
-    if (abs(fine - avos_gauss4(q, k, a, a + width)) <= avos_real(avos_tolerance) * width ||
+    avos_real coarse;
+    avos_real fine;
+    avos_gauss(q, k, a, a + width, coarse, fine);
+    if (abs(fine - coarse) <= avos_real(avos_tolerance) * width ||
       level >= 20)
     {
       ray.Colour.x += fine;

@@ -25,34 +25,30 @@
 
 namespace
 {
-// Pixels of the window with any colour.
-int DrawnPixels(vtkRenderWindow* window)
+// Pixels of the window whose RGB `counts`.
+int CountPixels(vtkRenderWindow* window, const std::function<bool(int, int, int)>& counts)
 {
   vtkNew<vtkUnsignedCharArray> pixels;
   const int* size = window->GetSize();
   window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 0, pixels);
-  int drawn = 0;
+  int n = 0;
   for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i)
   {
-    drawn +=
-      pixels->GetValue(3 * i) + pixels->GetValue(3 * i + 1) + pixels->GetValue(3 * i + 2) > 0;
+    n += counts(pixels->GetValue(3 * i), pixels->GetValue(3 * i + 1), pixels->GetValue(3 * i + 2));
   }
-  return drawn;
+  return n;
+}
+
+// Pixels of the window with any colour.
+int DrawnPixels(vtkRenderWindow* window)
+{
+  return CountPixels(window, [](int r, int g, int b) { return r + g + b > 0; });
 }
 
 // Pixels drawn pure magenta: the mapper's failed rays.
 int MagentaPixels(vtkRenderWindow* window)
 {
-  vtkNew<vtkUnsignedCharArray> pixels;
-  const int* size = window->GetSize();
-  window->GetPixelData(0, 0, size[0] - 1, size[1] - 1, 0, pixels);
-  int magenta = 0;
-  for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i)
-  {
-    magenta += pixels->GetValue(3 * i) == 255 && pixels->GetValue(3 * i + 1) == 0 &&
-      pixels->GetValue(3 * i + 2) == 255;
-  }
-  return magenta;
+  return CountPixels(window, [](int r, int g, int b) { return r == 255 && g == 0 && b == 255; });
 }
 }
 

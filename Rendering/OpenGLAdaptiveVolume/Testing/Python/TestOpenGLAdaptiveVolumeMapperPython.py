@@ -6,8 +6,9 @@ intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
 integral; clipping planes and cropping cut its rays where they cut the CPU
 mapper's; it reads signed, 32-bit and double scalars, nearest
-interpolation and cell scalars as the CPU mapper does; a bad tolerance is
-refused and draws nothing."""
+interpolation and cell scalars, and shades, scales by gradient opacity and
+projects additively or by the average as the CPU mapper does; a bad
+tolerance is refused and draws nothing."""
 
 import avos
 from vtkmodules.test import Testing
@@ -181,6 +182,22 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.prop.SetScalarOpacity(opacity)
         self.assertPiecewiseWithinEps(1e-3)
 
+    @staticmethod
+    def exactCases(riemannBound):
+        """(name, CPU set-up, GPU set-up, bound): the piecewise method at eps
+        1e-3 within eps of the CPU's at 1e-5 (itself within 1e-5 of the
+        exact integral), the exact maximum as the CPU's within 1e-5, the
+        Riemann sum as the CPU's within riemannBound."""
+        eps = 1e-3
+        return (
+            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
+             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
+             eps - 1e-5),
+            ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
+             lambda m: m.SetBlendModeToMaximumIntensity(), 1e-5),
+            ("Riemann", lambda m: m.SetIntegrationMethodToRiemann(),
+             lambda m: m.SetIntegrationMethodToRiemann(), riemannBound))
+
     def assertCutAsTheCPUMapper(self, cut):
         # The piecewise method within eps of the CPU's exact image, the exact
         # maximum intensity and the Riemann sum (restarted at each kept
@@ -191,19 +208,11 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
                 cut(mapper)
                 setting(mapper)
             return configure
-        eps = 1e-3
-        cases = (
-            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
-             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
-             eps - 1e-5),
-            ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
-             lambda m: m.SetBlendModeToMaximumIntensity(), 1e-5),
-            # The Riemann sum in float against double, restarted at each kept
-            # part's entry: 3e-7 apart on the planes and the fence, but a sum
-            # jumps by a sample's contribution where a part's length rounds
-            # across a multiple of h (3 of the subvolume's rays, 3.9e-3).
-            ("Riemann", lambda m: m.SetIntegrationMethodToRiemann(),
-             lambda m: m.SetIntegrationMethodToRiemann(), 1e-2))
+        # The Riemann sum in float against double, restarted at each kept
+        # part's entry: 3e-7 apart on the planes and the fence, but a sum
+        # jumps by a sample's contribution where a part's length rounds
+        # across a multiple of h (3 of the subvolume's rays, 3.9e-3).
+        cases = self.exactCases(1e-2)
         whole = self.cpuImage(lambda m: m.SetBlendModeToMaximumIntensity())
         for name, cpu, gpu, bound in cases:
             expected = self.cpuImage(cutting(cpu))
@@ -360,15 +369,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         cells = vtkPointDataToCellData()
         cells.SetInputConnection(self.source.GetOutputPort())
         point = self.source
-        eps = 1e-3
-        cases = (
-            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
-             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
-             eps - 1e-5),
-            ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
-             lambda m: m.SetBlendModeToMaximumIntensity(), 1e-5),
-            ("Riemann", lambda m: m.SetIntegrationMethodToRiemann(),
-             lambda m: m.SetIntegrationMethodToRiemann(), 1e-4))
+        cases = self.exactCases(1e-4)
         linear = self.cpuImage(lambda m: m.SetBlendModeToMaximumIntensity())
         for field, source, interpolation in (("point nearest", point, "Nearest"),
                                              ("cell nearest", cells, "Nearest"),
