@@ -38,6 +38,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,16 @@ namespace
 {
 namespace an = avos::numerics;
 using TransferFunction = an::TransferFunction<double>;
+
+// The reference's budgets for VTK's curved functions (other colour spaces,
+// Hermite curves, log scales), tightest first: converted within shares of
+// the first that certifies every interval (a proven bound; the knots an
+// interval may take are capped, and a Hermite opacity in the extinction
+// model needs 1e-5), the rays integrated at PiecewiseReferenceTolerance, so
+// a pixel lies within that budget + 1e-9 of the integral of VTK's own
+// function. (At 1e-9 a Diverging map would need some 35,000 knots per
+// interval.)
+constexpr double ReferenceConversions[] = { 1e-7, 1e-6, 1e-5 };
 
 // The blend mode as the engine names it (ValidateSettings admits these).
 avos::engine::Blend EngineBlend(int blend)
@@ -159,9 +170,12 @@ public:
   int OpacityModel = -1;
   double ClassifiedVoxel = 0.0;
   // The conversion's budget (avos::ConversionBudget::ForTolerance of the
-  // piecewise method's eps, none otherwise), and the tolerance the rays are
-  // integrated to: eps less the shares the conversion certified with.
+  // piecewise method's eps or of one of ReferenceConversions, none
+  // otherwise), and
+  // the tolerance the rays are integrated to: the piecewise method's eps
+  // less the shares the conversion certified with.
   avos::ConversionBudget Conversion;
+  avos::ConversionBudget ConversionRequest; // the budget asked for first
   double IntegrationTolerance = 0.0;
   vtkTimeStamp ClassifyTime;
   std::size_t VisibleBlocks = 0;
@@ -558,28 +572,53 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
       return false;
     }
   }
+  return this->UpdateTransferFunction(property) && this->UpdateGradientOpacity(property) &&
+    this->UpdatePieces();
+}
+
+bool vtkAdaptiveVolumeMapper::UpdateTransferFunction(vtkVolumeProperty* property)
+{
+  vtkInternals& internals = *this->Internals;
+  const bool mixture = internals.Components > 1;
   // Property -> transfer function and block visibility. The piecewise
   // method's colours and opacity are converted within shares of its eps where
   // VTK's are not piecewise linear, and the rays integrated to the rest; lit,
   // a colour's error is multiplied by up to the shading's colour gain.
   const double gain = internals.Shade ? std::max(1.0, internals.Shading.ColourGain()) : 1.0;
-  avos::ConversionBudget budget;
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  const double chord =
+    avos::LongestChord(internals.GridToWorld, internals.Dimensions) / internals.Voxel;
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  const bool reference = this->IntegrationMethod == REFERENCE;
+  avos::ConversionBudget request; // none: the sampled methods certify nothing
+  if (piecewise || reference)
   {
-    budget = avos::ConversionBudget::ForTolerance(this->Tolerance, gain,
-      avos::LongestChord(internals.GridToWorld, internals.Dimensions) / internals.Voxel);
+    request = avos::ConversionBudget::ForTolerance(
+      piecewise ? this->Tolerance : ReferenceConversions[0], gain, chord);
   }
   if (property->GetMTime() != internals.PropertyTime ||
     this->OpacityModel != internals.OpacityModel || internals.Voxel != internals.ClassifiedVoxel ||
     internals.ClassifyTime.GetMTime() < internals.Ranges.GetTime() ||
-    !budget.SameAs(internals.Conversion))
+    !request.SameAs(internals.ConversionRequest))
   {
     const bool extinction = this->OpacityModel == EXTINCTION_OPACITY;
-    const std::string error = mixture
-      ? avos::MixtureFromProperty(property, internals.Components, internals.Scalars->GetDataType(),
-          extinction, internals.Voxel, internals.Mixture, &budget)
-      : avos::TransferFunctionFromProperty(
-          property, extinction, internals.Voxel, internals.TF, &budget);
+    auto convert = [&](avos::ConversionBudget& budget)
+    {
+      return mixture ? avos::MixtureFromProperty(property, internals.Components,
+                         internals.Scalars->GetDataType(), extinction, internals.Voxel,
+                         internals.Mixture, &budget)
+                     : avos::TransferFunctionFromProperty(
+                         property, extinction, internals.Voxel, internals.TF, &budget);
+    };
+    avos::ConversionBudget budget = request;
+    std::string error = convert(budget);
+    for (std::size_t k = 1; reference && error.empty() && budget.Approximated > 0 &&
+         k < std::size(ReferenceConversions);
+         ++k)
+    {
+      budget = avos::ConversionBudget::ForTolerance(ReferenceConversions[k], gain, chord);
+      error = convert(budget);
+    }
+    internals.ConversionRequest = request;
     internals.Conversion = budget;
     if (!error.empty())
     {
@@ -601,9 +640,10 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
     internals.ClassifiedVoxel = internals.Voxel;
     internals.ClassifyTime.Modified();
   }
+  // (The reference integrates at its own tolerance.)
   internals.IntegrationTolerance =
-    avos::IntegrationTolerance(this->Tolerance, internals.Conversion);
-  return this->UpdateGradientOpacity(property) && this->UpdatePieces();
+    piecewise ? avos::IntegrationTolerance(this->Tolerance, internals.Conversion) : this->Tolerance;
+  return true;
 }
 
 bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
