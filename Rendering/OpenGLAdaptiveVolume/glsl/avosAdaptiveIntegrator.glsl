@@ -321,12 +321,12 @@ struct avos_Sample
 // numerics::ShadingModel's lit colour on numbers (Shading.h, LitColourOf),
 // for the sampled methods (avos_shade 1): Blinn-Phong with the property's
 // coefficients avos_shading = (ka, kd, ks, specular power), two-sided or
-// not, the renderer's lights (avos_lightCount of avos_maximumLights slots:
-// avos_lightPosition xyz the unit direction towards a directional light or a
-// positional light's position, w 1 when positional; diffuse and specular
-// colours times intensity; avos_lightAttenuation the attenuation values and
-// the cosine of a spot's cone angle, below -1 for no cone; avos_lightAxis a spot's
-// unit axis and exponent), the exact gradient of the trilinear field mapped
+// not, the renderer's lights (avos_lightCount of 8 slots: avos_lightPosition
+// xyz the unit direction towards a directional light or a positional
+// light's position, w 1 when positional; diffuse and specular colours times
+// intensity; avos_lightAttenuation the attenuation values and the cosine of
+// a spot's cone angle, below -1 for no cone; avos_lightAxis a spot's unit
+// axis and exponent), the exact gradient of the trilinear field mapped
 // to world space by the normal matrix (avos_normalRows, its rows), positions
 // by the grid-to-world map (avos_gridToWorld, the rows of its affine part),
 // the viewer along the ray, ambient light alone where the gradient
@@ -402,12 +402,12 @@ void avos_light(int i, vec3 x, vec3 n, vec3 v, inout vec3 diffuse, inout vec3 sp
 }
 
 // The colour of the sample at grid position g, whose world-space gradient
-// is `gradient`, lit. The first light is written out, a
-// loop takes the others: llvmpipe counts a loop's iterations against its
-// limit (avos_castRay), and a loop over the headlight alone cut 9.4 % of
-// Bonsai's shaded coupled rays at eps 1e-3 short (7.6 % now, the adaptive
-// rule's own steps); all eight slots written out made the shader take four
-// times as long to compile.
+// is `gradient`, lit. The first light is written out, a loop takes the
+// others: llvmpipe counts a loop's iterations against its limit
+// (avos_castRay), and a loop over the headlight alone cut 9.4 % of Bonsai's
+// shaded coupled rays at eps 1e-3 short (7.6 % now, the adaptive rule's own
+// steps); all eight slots written out made the shader take four times as
+// long to compile.
 vec3 avos_lit(vec3 colour, vec3 gradient, avos_real3 g)
 {
   vec3 ambient = avos_shading.x * colour;
@@ -1195,8 +1195,9 @@ int avos_extrema(avos_Cubic q, avos_real extent, out avos_real roots[2])
 // at a root of its derivative. A cell whose corners cannot beat the best
 // value so far is passed over without its cubic, one with a non-finite
 // corner too. Every cell of the kept parts is walked: the blocks'
-// visibility is the composite integral's, not the projections'. `side` 1 for the maximum, -1 for the
-// minimum; false when no finite cell lies on the ray.
+// visibility is the composite integral's, not the projections'. `side` 1
+// for the maximum, -1 for the minimum; false when no finite cell lies on
+// the ray.
 bool avos_extremum(avos_real D, float side, out avos_real value)
 {
   avos_real best = avos_real(-3.0e38);
@@ -1678,7 +1679,7 @@ void avos_integratePiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_
 // (tau n is a polynomial of degree at most 12 in the ray's parameter). The
 // ray's sum goes into Colour.x.
 #define AVOS_NODE(x, w)                                                                            \
-  d = avos_at(q, mid + radius * (x)) - start;                                                        \
+  d = avos_at(q, mid + radius * (x)) - start;                                                      \
   sum += (w) * (t0 + d * (t1 + d * (t2 + d * t3))) * (start + d - smin);
 #define AVOS_NODES(x, w)                                                                           \
   AVOS_NODE(-AVOS_DOUBLE(x), AVOS_DOUBLE(w)) AVOS_NODE(AVOS_DOUBLE(x), AVOS_DOUBLE(w))
