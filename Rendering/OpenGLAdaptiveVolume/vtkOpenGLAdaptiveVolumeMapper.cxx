@@ -913,24 +913,12 @@ void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
 {
   uniforms->SetUniformi("avos_method", this->IntegrationMethod);
   // The shader's blends: composite 0, maximum 1, minimum 2, additive 3, average 4.
-  int blend = 0;
-  switch (this->BlendMode)
-  {
-    case vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND:
-      blend = 1;
-      break;
-    case vtkVolumeMapper::MINIMUM_INTENSITY_BLEND:
-      blend = 2;
-      break;
-    case vtkVolumeMapper::ADDITIVE_BLEND:
-      blend = 3;
-      break;
-    case vtkVolumeMapper::AVERAGE_INTENSITY_BLEND:
-      blend = 4;
-      break;
-    default:
-      break;
-  }
+  const int mode = this->BlendMode;
+  const int blend = mode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND ? 1
+    : mode == vtkVolumeMapper::MINIMUM_INTENSITY_BLEND               ? 2
+    : mode == vtkVolumeMapper::ADDITIVE_BLEND                        ? 3
+    : mode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND               ? 4
+                                                                     : 0;
   uniforms->SetUniformi("avos_blend", blend);
   uniforms->SetUniformf("avos_tolerance", float(this->Internals->IntegrationTolerance));
   const float steps[4] = { float(this->InitialStep), float(this->MinimumStep),
