@@ -201,6 +201,7 @@ public:
   bool BlocksHoldMap = false; // else a 1^3 placeholder (skipping off)
   vtkMTimeType BlocksRangesTime = 0;
   vtkTimeStamp BlocksTime;
+  vtkMTimeType NaNReported = 0; // the ranges whose NaN count was said
 };
 
 //------------------------------------------------------------------------------
@@ -441,6 +442,7 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->SetMethodUniforms(uniforms);
   this->SetShadingUniforms(uniforms, gridToWorld);
   this->SetGradientOpacityUniforms(uniforms);
+  this->UpdateRanges();
   this->UpdateBlocks(ren, shaderProperty);
   this->SetRayUniforms(ren, uniforms, gridToWorld, voxel);
   this->SetCutUniforms(uniforms);
@@ -940,6 +942,31 @@ void vtkOpenGLAdaptiveVolumeMapper::SetMethodUniforms(vtkUniforms* uniforms)
 }
 
 //------------------------------------------------------------------------------
+void vtkOpenGLAdaptiveVolumeMapper::UpdateRanges()
+{
+  // The blocks' value ranges, rebuilt when the scalars or their field
+  // change (the types TexelToScalar accepts all work). A block's range
+  // covers what its cells' field reads (cell scalars: their cells, and the
+  // neighbours between centres).
+  vtkInternals& internals = *this->Internals;
+  using Samples = avos::EmptySpaceRanges::Samples;
+  const Samples samples = internals.ScalarField == Field::Cells ? Samples::Cells
+    : internals.ScalarField == Field::CellCentres               ? Samples::CellCentres
+                                                                : Samples::Points;
+  internals.Ranges.Update(this->GetRenderedScalars(),
+    vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(), samples);
+  // NaN, as on the CPU: every cell with a NaN corner is empty (the shader's
+  // avos_corners; a sample there is NaN, transparent). Said once per change
+  // of the scalars.
+  if (internals.Ranges.GetNaNCount() > 0 && internals.NaNReported != internals.Ranges.GetTime())
+  {
+    vtkWarningMacro(<< "The input has " << internals.Ranges.GetNaNCount()
+                    << " NaN scalars: the cells they touch are rendered transparent.");
+  }
+  internals.NaNReported = internals.Ranges.GetTime();
+}
+
+//------------------------------------------------------------------------------
 void vtkOpenGLAdaptiveVolumeMapper::UpdateBlocks(
   vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty)
 {
@@ -951,15 +978,6 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateBlocks(
   if (this->EmptySpaceSkipping)
   {
     auto& map = internals.Ranges.GetMap();
-    // The types TexelToScalar accepts all work. A block's range covers what
-    // its cells' field reads (cell scalars: their cells, and the neighbours
-    // between centres).
-    using Samples = avos::EmptySpaceRanges::Samples;
-    const Samples samples = internals.ScalarField == Field::Cells ? Samples::Cells
-      : internals.ScalarField == Field::CellCentres               ? Samples::CellCentres
-                                                                  : Samples::Points;
-    internals.Ranges.Update(this->GetRenderedScalars(),
-      vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(), samples);
     if (!internals.BlocksHoldMap || internals.BlocksRangesTime != internals.Ranges.GetTime() ||
       internals.BlocksTime < internals.TFTime || blocks->GetHandle() == 0)
     {

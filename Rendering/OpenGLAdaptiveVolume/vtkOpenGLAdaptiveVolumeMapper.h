@@ -75,7 +75,9 @@
  * (nearest, vtkVolumeProperty's default); cell scalars (a texel per cell, as
  * VTK uploads them) constant per cell (nearest) or trilinear between the
  * cells' centres (linear). Each is trilinear on the cells of the point grid
- * or of that grid refined by 2, which every method walks.
+ * or of that grid refined by 2, which every method walks. A cell with a NaN
+ * corner is empty (transparent) in every method, as on the CPU; the NaN
+ * count is said once per change of the scalars.
  *
  * Supported: one-component point or cell scalars of every type VTK's GPU mapper
  * uploads (8-, 16-, 32- and 64-bit integers, signed or not, float,
@@ -324,8 +326,9 @@ protected:
    * tolerance did, their uniforms' room; an error message or empty), the
    * shader's replacements, the uniforms of the volume, of the transfer
    * function's pieces (and the piecewise method's), of the method, of the
-   * shading and of the gradient opacity, the empty-space blocks' texture
-   * (uploaded when the ranges or the transfer function change), the rays'
+   * shading and of the gradient opacity, the empty-space blocks' ranges
+   * (rebuilt when the scalars change; their NaN count said once) and
+   * texture (uploaded when the ranges or the transfer function change), the rays'
    * uniforms for this camera and the cuts' (clipping planes and cropping in
    * grid coordinates).
    */
@@ -342,6 +345,7 @@ protected:
   void SetMethodUniforms(vtkUniforms* uniforms);
   void SetShadingUniforms(vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld);
   void SetGradientOpacityUniforms(vtkUniforms* uniforms);
+  void UpdateRanges();
   void UpdateBlocks(vtkRenderer* ren, vtkOpenGLShaderProperty* shaderProperty);
   void SetRayUniforms(
     vtkRenderer* ren, vtkUniforms* uniforms, vtkMatrix4x4* gridToWorld, double voxel);

@@ -6,8 +6,8 @@ intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
 integral; clipping planes and cropping cut its rays where they cut the CPU
 mapper's; it reads signed, 32-bit and double scalars, nearest
-interpolation and cell scalars, and shades, scales by gradient opacity and
-projects additively or by the average as the CPU mapper does; a bad
+interpolation, cell scalars and NaN, and shades, scales by gradient opacity
+and projects additively or by the average as the CPU mapper does; a bad
 tolerance is refused and draws nothing."""
 
 import avos
@@ -18,6 +18,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vt
 from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkLight, vtkRenderWindow,
                                          vtkRenderer, vtkVolume, vtkVolumeProperty)
 from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
+from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
 from vtkmodules.vtkImagingCore import vtkImageShiftScale
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
@@ -110,10 +111,11 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.render(cpu)
         return cpu.GetRenderedImage().GetPointData().GetScalars()
 
-    def gpuDifference(self, configure, expected):
+    def gpuDifference(self, configure, expected, warningCount=0):
         """The largest difference over pixels and RGBA between the GPU's float
         image (the mapper set up by configure) and `expected`, and the pixels
-        expected covers; no warning may be emitted."""
+        expected covers; warningCount warnings must be emitted (none by
+        default)."""
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
         gpu.SetInputConnection(self.source.GetOutputPort())
         configure(gpu)
@@ -136,7 +138,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
                     v = 0.0  # no fragment: the image's clear value
                 covered += channel == 3 and expected.GetComponent(i, 3) > 0.01
                 worst = max(worst, abs(v - expected.GetComponent(i, channel)))
-        self.assertEqual(warnings, [])
+        self.assertEqual(len(warnings), warningCount)
         return worst, covered
 
     def assertPiecewiseWithinEps(self, eps, message=None):
@@ -385,6 +387,31 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
                 worst, covered = self.gpuDifference(gpu, expected)
                 self.assertGreater(covered, SIZE * SIZE // 16, field + ", " + name)
                 self.assertLessEqual(worst, bound, field + ", " + name)
+
+    def testNaNAsTheCPUMapper(self):
+        # NaN scalars, one rule on both mappers: every cell with a NaN corner
+        # is empty (transparent), the count said once per change of the
+        # scalars. A plane of points through the opaque lower part is NaN:
+        # the slab of cells on either side of it is empty.
+        self.source.Update()
+        image = vtkImageData()
+        image.DeepCopy(self.source.GetOutput())
+        values = image.GetPointData().GetScalars()
+        for index in range(33 * 33 * 8, 33 * 33 * 9):
+            values.SetValue(index, float("nan"))
+        producer = vtkTrivialProducer()
+        producer.SetOutput(image)
+        whole = self.cpuImage(lambda m: m.SetIntegrationMethodToRiemann())
+        self.source = producer
+        for name, cpu, gpu, bound in self.exactCases(1e-4):
+            expected = self.cpuImage(cpu)
+            if name == "Riemann":
+                changed = sum(abs(expected.GetComponent(i, 3) - whole.GetComponent(i, 3)) > 0.01
+                              for i in range(SIZE * SIZE))
+                self.assertGreater(changed, SIZE * SIZE // 16, "the NaN cells change the image")
+            worst, covered = self.gpuDifference(gpu, expected, warningCount=1)
+            self.assertGreater(covered, SIZE * SIZE // 16, name)
+            self.assertLessEqual(worst, bound, name)
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
