@@ -157,16 +157,21 @@ void avos_cornerValues(ivec3 cell, out float c[8])
   c[7] = zh.w;
 }
 
-// The field at point-grid coordinates g, clamped onto the box as the core's
-// volumes clamp (a ray clipped to the box strays by rounding).
-float avos_field(avos_real3 g)
+// The walk cell holding point-grid coordinates g and g's coordinates f in
+// it, clamped onto the box as the core's volumes clamp (a ray clipped to the
+// box strays by rounding).
+void avos_cellAt(avos_real3 g, out ivec3 cell, out vec3 f)
 {
   avos_real3 last = avos_real3(avos_walkCells());
   avos_real3 p = clamp(g * avos_real(avos_walkScale), avos_real3(0.0), last);
-  avos_real3 cell = min(floor(p), last - avos_real3(1.0));
-  vec3 f = vec3(p - cell);
-  float c[8];
-  avos_cornerValues(ivec3(cell), c);
+  avos_real3 lower = min(floor(p), last - avos_real3(1.0));
+  cell = ivec3(lower);
+  f = vec3(p - lower);
+}
+
+// The trilinear form of a cell's corners c at its coordinates f.
+float avos_trilinear(float c[8], vec3 f)
+{
   float v00 = c[0] + f.x * (c[1] - c[0]);
   float v10 = c[2] + f.x * (c[3] - c[2]);
   float v01 = c[4] + f.x * (c[5] - c[4]);
@@ -248,16 +253,10 @@ float avos_toExtinction(float value)
 }
 
 // The opacity function's own value at s (tau or alpha, as the model reads
-// it) and the colour there: TransferFunction's GetOpacityValue and GetColor.
-void avos_lookUp(float s, out float opacity, out vec3 colour)
+// it) and the colour there on piece i (avos_locate's; -1: below the first
+// knot).
+void avos_pieceAt(int i, float s, out float opacity, out vec3 colour)
 {
-  if (isnan(s))
-  {
-    opacity = 0.0;
-    colour = vec3(0.0);
-    return;
-  }
-  int i = avos_locate(s);
   if (i < 0)
   {
     opacity = avos_below.w;
@@ -268,6 +267,18 @@ void avos_lookUp(float s, out float opacity, out vec3 colour)
   float d = clamp(s - a.x, 0.0, a.y);
   opacity = a.z + a.w * d;
   colour = avos_pieceC[i].rgb + avos_pieceS[i].rgb * d;
+}
+
+// The same at s: TransferFunction's GetOpacityValue and GetColor.
+void avos_lookUp(float s, out float opacity, out vec3 colour)
+{
+  if (isnan(s))
+  {
+    opacity = 0.0;
+    colour = vec3(0.0);
+    return;
+  }
+  avos_pieceAt(avos_locate(s), s, opacity, colour);
 }
 
 void avos_classify(float s, out float tau, out vec3 colour)
@@ -337,16 +348,11 @@ vec3 avos_toWorld(vec4 rows[3], vec4 p)
   return vec3(dot(rows[0], p), dot(rows[1], p), dot(rows[2], p));
 }
 
-// The gradient of the trilinear field (field 0, the only one shaded) at
-// point-grid coordinates g, in grid units (TrilinearVolume::Gradient).
-vec3 avos_gradient(avos_real3 g)
+// The gradient of the trilinear form of a cell's corners c at its
+// coordinates f, in walk-grid units (TrilinearVolume::Gradient; the point
+// grid's for field 0, the only one shaded or scaled by gradient opacity).
+vec3 avos_trilinearGradient(float c[8], vec3 f)
 {
-  avos_real3 last = avos_real3(avos_walkCells());
-  avos_real3 p = clamp(g, avos_real3(0.0), last);
-  avos_real3 cell = min(floor(p), last - avos_real3(1.0));
-  vec3 f = vec3(p - cell);
-  float c[8];
-  avos_cornerValues(ivec3(cell), c);
   float dx00 = c[1] - c[0];
   float dx10 = c[3] - c[2];
   float dx01 = c[5] - c[4];
@@ -470,11 +476,16 @@ avos_Sample avos_sample(avos_real t)
   ++avos_samples;
   avos_Sample s;
   avos_real3 g = avos_rayOrigin + t * avos_rayDirection;
-  s.Scalar = avos_field(g);
+  ivec3 cell;
+  vec3 f;
+  avos_cellAt(g, cell, f);
+  float c[8];
+  avos_cornerValues(cell, c);
+  s.Scalar = avos_trilinear(c, f);
   avos_classify(s.Scalar, s.Tau, s.Colour);
   if ((avos_shade != 0 || avos_gradientOpacity != 0) && s.Tau > 0.0)
   {
-    vec3 gradient = avos_toWorld(avos_normalRows, vec4(avos_gradient(g), 0.0));
+    vec3 gradient = avos_toWorld(avos_normalRows, vec4(avos_trilinearGradient(c, f), 0.0));
     if (avos_gradientOpacity != 0)
     {
       s.Tau *= avos_gradientFactor(length(gradient));
@@ -1713,9 +1724,9 @@ void avos_addPiece(inout avos_PiecewiseRay ray, avos_Cubic q, int i, avos_real u
 avos_real avos_averaged(avos_Cubic q, int k, avos_real u)
 {
   float s = float(avos_at(q, u));
-  float opacity = k < 0 ? avos_below.w
-                        : avos_pieceA[k].z + avos_pieceA[k].w * clamp(s - avos_pieceA[k].x, 0.0,
-                                                                   avos_pieceA[k].y);
+  float opacity;
+  vec3 colour; // unused
+  avos_pieceAt(k, s, opacity, colour);
   return avos_real(avos_oneMinusExp(avos_toExtinction(opacity) * avos_steps.w) *
     (s - avos_accumulationRange.x) * avos_accumulationRange.y);
 }
