@@ -171,9 +171,8 @@ public:
   double ClassifiedVoxel = 0.0;
   // The conversion's budget (avos::ConversionBudget::ForTolerance of the
   // piecewise method's eps or of one of ReferenceConversions, none
-  // otherwise), and
-  // the tolerance the rays are integrated to: the piecewise method's eps
-  // less the shares the conversion certified with.
+  // otherwise), and the tolerance the rays are integrated to: the piecewise
+  // method's eps less the shares the conversion certified with.
   avos::ConversionBudget Conversion;
   avos::ConversionBudget ConversionRequest; // the budget asked for first
   double IntegrationTolerance = 0.0;

@@ -179,6 +179,22 @@ public:
   avos::numerics::AverageRange<double> AverageRange;
   double DataRange[2] = { 0.0, 1.0 };
 
+  // The pieces the shader's piece walk reads this frame: the transfer
+  // function's for the piecewise method and the additive projection, the
+  // range's marks for the average (avos_averagePiece; none for a range that
+  // holds no ray), none otherwise.
+  const avos::numerics::PiecewiseTransferFunction<double>* WalkedPieces(
+    int method, int blendMode) const
+  {
+    if (blendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND)
+    {
+      return this->AverageRange.IsEmpty() ? nullptr : &this->AverageRange.GetPieces();
+    }
+    const bool walks = method == vtkOpenGLAdaptiveVolumeMapper::PIECEWISE_ADAPTIVE ||
+      blendMode == vtkVolumeMapper::ADDITIVE_BLEND;
+    return walks ? &this->Pieces : nullptr;
+  }
+
   // The field of this frame's scalars (PrepareFrame).
   Field ScalarField = Field::Trilinear;
 
@@ -259,10 +275,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckGradientSettings(vtkVolumeProper
   // The CPU mapper's rules, in the sampled methods (their samples are lit
   // and scaled).
   const bool gradientOpacity = avos::UsesGradientOpacity(property, 0);
-  if (gradientOpacity &&
-    (this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
-      this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND ||
-      static_cast<Field>(this->ScalarFieldOf(property)) != Field::Trilinear))
+  if (!gradientOpacity && !property->GetShade(0))
+  {
+    return std::string();
+  }
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  const bool composite = this->BlendMode == vtkVolumeMapper::COMPOSITE_BLEND;
+  const bool trilinear = static_cast<Field>(this->ScalarFieldOf(property)) == Field::Trilinear;
+  if (gradientOpacity && (piecewise || !composite || !trilinear))
   {
     return "Gradient opacity is supported by the GPU's sampled methods (not its piecewise "
            "method: its certified version is vtkAdaptiveVolumeMapper's) with point scalars, "
@@ -273,19 +293,19 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckGradientSettings(vtkVolumeProper
   {
     return std::string();
   }
-  if (this->IntegrationMethod == PIECEWISE_ADAPTIVE)
+  if (piecewise)
   {
     return "the GPU's piecewise method does not shade (its certified lit colour is the CPU "
            "mapper's): turn the property's Shade off, use a sampled method, or "
            "vtkAdaptiveVolumeMapper";
   }
-  if (static_cast<Field>(this->ScalarFieldOf(property)) != Field::Trilinear)
+  if (!trilinear)
   {
     return "Cannot shade: only point scalars with linear interpolation are shaded (a field "
            "constant per cell has no gradient; cell scalars' between their centres is not "
            "modelled)";
   }
-  if (this->BlendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  if (!composite)
   {
     return "Cannot shade: shading applies to the composite blend mode only, not to projections; "
            "turn the property's Shade off";
@@ -651,10 +671,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   }
   // Uniform vectors: 3 per transfer-function piece, 4 per piecewise piece.
   const std::size_t pieces = internals.TF.GetPieces().size();
-  const std::size_t piecewisePieces = std::max<std::size_t>(1,
-    average                   ? internals.AverageRange.GetPieces().GetNumberOfPieces()
-      : piecewise || additive ? internals.Pieces.GetNumberOfPieces()
-                              : 1);
+  const auto* walked = internals.WalkedPieces(this->IntegrationMethod, this->BlendMode);
+  const std::size_t piecewisePieces = walked ? walked->GetNumberOfPieces() : 1;
   GLint vectors = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
   const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
@@ -784,17 +802,12 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
 //------------------------------------------------------------------------------
 void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
 {
-  // The pieces the piece walk reads (numerics::PiecewiseTransferFunction,
-  // see the shader's avos_pp*): the transfer function's for the piecewise
-  // method and the additive projection, the range's marks for the average
-  // (avos_averagePiece), one unused piece for the other methods.
+  // The pieces the piece walk reads (vtkInternals::WalkedPieces, see the shader's
+  // avos_pp*), one unused piece where it reads none.
   vtkInternals& internals = *this->Internals;
   const bool average = this->BlendMode == vtkVolumeMapper::AVERAGE_INTENSITY_BLEND;
-  const bool walked = this->IntegrationMethod == PIECEWISE_ADAPTIVE ||
-    this->BlendMode == vtkVolumeMapper::ADDITIVE_BLEND;
-  const auto& pp = average ? internals.AverageRange.GetPieces() : internals.Pieces;
-  const bool used = (average && !internals.AverageRange.IsEmpty()) || walked;
-  const int count = used ? static_cast<int>(pp.GetNumberOfPieces()) : 1;
+  const auto* walked = internals.WalkedPieces(this->IntegrationMethod, this->BlendMode);
+  const int count = walked ? static_cast<int>(walked->GetNumberOfPieces()) : 1;
   if (count != internals.PiecewiseCount)
   {
     for (const char* name : { "avos_ppA", "avos_ppB", "avos_ppC", "avos_ppS" })
@@ -804,8 +817,9 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPiecewiseUniforms(vtkUniforms* uniforms)
     internals.PiecewiseCount = count;
   }
   std::vector<float> a(4 * count, 0.0f), b(4 * count, 0.0f), c(4 * count, 0.0f), s(4 * count, 0.0f);
-  for (int i = 0; i < count && used; ++i)
+  for (int i = 0; i < count && walked; ++i)
   {
+    const auto& pp = *walked;
     const auto& p = pp[static_cast<std::size_t>(i)];
     a[4 * i] = float(p.Start);
     a[4 * i + 1] = float(p.Tau);

@@ -295,13 +295,25 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             self.assertGreater(covered, SIZE * SIZE // 8, name)
             self.assertLessEqual(worst, bound, name)
 
+    @staticmethod
+    def sampledCases():
+        """(name, set-up, bound) of the sampled methods compared with the
+        CPU's on the same scene: the Riemann sum, the same samples in float
+        against double; the coupled rule at eps 1e-3, both within eps of the
+        integral (the same rule on the same samples)."""
+        def method(name):
+            def configure(mapper):
+                getattr(mapper, "SetIntegrationMethodTo" + name)()
+                mapper.SetTolerance(1e-3)
+            return configure
+        return (("Riemann", method("Riemann"), 1e-4),
+                ("AdaptiveCoupled", method("AdaptiveCoupled"), 1e-3))
+
     def testShadingAsTheCPUMapper(self):
         # The CPU mapper's shading (the exact gradient of the trilinear
         # field, Blinn-Phong, the renderer's lights) in the sampled methods:
         # the headlight alone, then with a coloured spot light whose cone
-        # cuts the volume, and one-sided. Riemann: the same samples lit in
-        # float against double; coupled: both within eps of the shaded
-        # integral (the same rule on the same samples).
+        # cuts the volume, and one-sided (sampledCases).
         self.prop.ShadeOn()
         self.prop.SetSpecularPower(32.0)
         spot = vtkLight()
@@ -321,10 +333,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         for lights, twoSided in ((None, True), (spot, True), (spot, False)):
             self.light = lights
             self.twoSided = twoSided
-            for method, bound in (("Riemann", 1e-4), ("AdaptiveCoupled", 1e-3)):
-                def configure(mapper):
-                    getattr(mapper, "SetIntegrationMethodTo" + method)()
-                    mapper.SetTolerance(1e-3)
+            for method, configure, bound in self.sampledCases():
                 expected = self.cpuImage(configure)
                 case = "%s, spot %s, two-sided %s" % (method, lights is not None, twoSided)
                 if method == "Riemann":  # each setting changes the image
@@ -347,10 +356,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.prop.SetGradientOpacity(gradient)
         for shade in (False, True):
             self.prop.SetShade(shade)
-            for method, bound in (("Riemann", 1e-4), ("AdaptiveCoupled", 1e-3)):
-                def configure(mapper):
-                    getattr(mapper, "SetIntegrationMethodTo" + method)()
-                    mapper.SetTolerance(1e-3)
+            for method, configure, bound in self.sampledCases():
                 expected = self.cpuImage(configure)
                 case = "%s, shaded %s" % (method, shade)
                 if method == "Riemann" and not shade:
