@@ -1,7 +1,9 @@
 // Time per ray and samples per ray of every integrator on a fixed synthetic ray
 // set (the first 256 rays of Testing/RandomRays.h), so that changes can be
-// compared:  build/bin/avos-bench-integrators; and the cost of one sample.
+// compared:  build/bin/avos-bench-integrators; the cost of one sample; and
+// what a second component costs the piecewise method.
 #include "RandomRays.h"
+#include "avos/numerics/Mixture.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/Volume.h"
 
@@ -135,6 +137,90 @@ void Sample(benchmark::State& state)
     benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(Sample)->Arg(0)->Arg(1)->ArgName("vtk_opacity");
+
+// What a second component costs the piecewise method (eps 1e-3, VTK's
+// opacity model): 256 oblique rays through a smooth 64^3 uint8 volume whose
+// second component is the first mirrored along x, with one component, two
+// with the second transparent, and two visible. Time and pieces per ray.
+struct TwoComponents
+{
+  static constexpr int N = 64;
+  std::vector<unsigned char> Data; // interleaved pairs
+  TransferFunction<double> Visible, Clear;
+
+  TwoComponents()
+  {
+    for (int z = 0; z < N; ++z)
+    {
+      for (int y = 0; y < N; ++y)
+      {
+        for (int x = 0; x < N; ++x)
+        {
+          for (const int u : { x, N - 1 - x })
+          {
+            const double f = std::sin(0.21 * u) * std::cos(0.17 * y) + std::sin(0.13 * z + 0.4);
+            this->Data.push_back(static_cast<unsigned char>(63.75 * (f + 2.0)));
+          }
+        }
+      }
+    }
+    for (const double s : { 0.0, 60.0, 120.0, 200.0, 255.0 })
+    {
+      this->Visible.AddOpacityKnot(s, 0.2 * s / 255.0);
+      this->Visible.AddColorKnot(s, s / 255.0, 0.5, 1.0 - s / 255.0);
+    }
+    this->Clear.AddOpacityKnot(0.0, 0.0);
+    this->Clear.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+    for (TransferFunction<double>* tf : { &this->Visible, &this->Clear })
+    {
+      tf->SetOpacityModel(OpacityModel::Alpha);
+      tf->Finalize();
+    }
+  }
+};
+
+void Components(benchmark::State& state)
+{
+  static const TwoComponents scene;
+  constexpr int N = TwoComponents::N;
+  const int dims[3] = { N, N, N };
+  using Volume = TrilinearVolume<double, unsigned char>;
+  const ComponentVolumes<double, Volume> volumes(
+    2, [&](int k) { return Volume(scene.Data.data() + k, dims, 2); });
+  const int components = static_cast<int>(state.range(0));
+  PiecewiseTransferFunction<double> one;
+  one.Build(scene.Visible, 1e-3 / 8.0);
+  MixtureTransferFunction<double> mixture;
+  const TransferFunction<double>* functions[2] = { &scene.Visible,
+    components == 2 ? &scene.Visible : &scene.Clear };
+  const double weights[2] = { 1.0, 1.0 };
+  mixture.SetIndependent(2, functions, weights);
+  PiecewiseMixture<double> pieces;
+  pieces.Build(mixture, 1e-3 / 8.0);
+  long rays = 0, pieceCount = 0;
+  for (auto _ : state)
+  {
+    for (int i = 0; i < 256; ++i)
+    {
+      const glm::dvec3 origin(0.5 + (i % 16) * 3.9, 0.5 + (i / 16) * 3.9, 0.0);
+      const glm::dvec3 direction = glm::normalize(glm::dvec3(0.31, 0.27, 1.0));
+      const double end = (N - 1) / direction.z;
+      const Interval<double> whole{ 0.0,
+        std::min({ end, (N - 1 - origin.x) / direction.x, (N - 1 - origin.y) / direction.y }) };
+      const RayResult<double> r = components == 1
+        ? IntegratePiecewise(volumes[0], origin, direction, &whole, 1, one, 1e-3)
+        : IntegratePiecewiseMixture(volumes, origin, direction, &whole, 1, pieces, 1e-3);
+      benchmark::DoNotOptimize(r.RGBA);
+      pieceCount += r.Statistics.Pieces;
+      ++rays;
+    }
+  }
+  state.counters["time_per_ray"] =
+    benchmark::Counter(double(rays), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["pieces_per_ray"] = double(pieceCount) / double(rays);
+}
+// 1: one component; 0: two, the second transparent; 2: two visible.
+BENCHMARK(Components)->Arg(1)->Arg(0)->Arg(2)->ArgName("visible")->Unit(benchmark::kMicrosecond);
 }
 
 BENCHMARK_MAIN();

@@ -52,6 +52,7 @@
 #ifndef avos_numerics_Mixture_h
 #define avos_numerics_Mixture_h
 
+#include "avos/numerics/Accumulation.h" // GaussLegendre
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 #include "avos/numerics/TransferFunction.h"
@@ -555,6 +556,20 @@ public:
 
   bool Emissions(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
   {
+    if (this->Ta == Real(0))
+    {
+      return true;
+    }
+    // int_0^l E_c by 7-point Gauss-Legendre, exact for E_c's degree (at most
+    // 12), and the midpoint of [E, 1] times it where that is within the
+    // share: no polynomial is built.
+    const glm::vec<3, Real> whole = this->EmissionIntegrals(terms, count);
+    const glm::vec<3, Real> size = glm::abs(whole);
+    if (std::max({ size.x, size.y, size.z }) * this->Ta * (Real(1) - this->E) <= this->Share())
+    {
+      colour += whole * (this->Ta * (Real(1) + this->E) / Real(2));
+      return true;
+    }
     // Degree 6 where every extinction is linear in its scalar (the
     // extinction model), 12 otherwise.
     for (int t = 0; t < count; ++t)
@@ -562,16 +577,54 @@ public:
       const auto& e = *terms[t].Extinction;
       if (e.TauCurvature != Real(0) || e.TauCubic != Real(0))
       {
-        return this->EmissionsOf<13>(terms, count, colour);
+        return this->SeriesOf<13>(terms, count, colour);
       }
     }
-    return this->EmissionsOf<7>(terms, count, colour);
+    return this->SeriesOf<7>(terms, count, colour);
   }
 
 private:
-  // Emissions with polynomials of M coefficients.
+  // int_0^l E_c, E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), by 7-point
+  // Gauss-Legendre (the nodes of a term in independent chains).
+  glm::vec<3, Real> EmissionIntegrals(const PieceTerm<Real>* terms, int count) const
+  {
+    using G = GaussLegendre<Real>;
+    const Real half = Real(0.5) * this->L;
+    Real v[7];
+    for (int i = 0; i < 7; ++i)
+    {
+      v[i] = half + half * G::N7[i];
+    }
+    glm::vec<3, Real> whole(Real(0));
+    for (int t = 0; t < count; ++t)
+    {
+      const auto& e = *terms[t].Extinction;
+      const PieceColour<Real>& pc = terms[t].Colour;
+      Real wtau[7];
+      for (int i = 0; i < 7; ++i)
+      {
+        const Real d = terms[t].D(v[i]);
+        wtau[i] = G::W7[i] * (e.Tau + d * (e.TauSlope + d * (e.TauCurvature + d * e.TauCubic)));
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        const Cubic<Real>& x = pc.Of(c);
+        Real sum = Real(0), moment = Real(0);
+        for (int i = 0; i < 7; ++i)
+        {
+          sum += wtau[i];
+          moment += wtau[i] * x(v[i]);
+        }
+        whole[c] += terms[t].Weight * (pc.A[c] * sum + pc.B[c] * moment);
+      }
+    }
+    return whole * half;
+  }
+
+  // The emissions as polynomials of M coefficients, integrated against
+  // e^{-theta} by SeriesIntegrals.
   template <int M>
-  bool EmissionsOf(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
+  bool SeriesOf(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
   {
     // E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)).
     Real emission[3][M] = {};
@@ -593,31 +646,6 @@ private:
           }
         }
       }
-    }
-    if (this->Ta == Real(0))
-    {
-      return true;
-    }
-    // int_0^l E_c, and the midpoint of [E, 1] times it.
-    static constexpr Reciprocals<Real> inverse{};
-    Real whole[3], largest = Real(0);
-    for (int c = 0; c < 3; ++c)
-    {
-      Real integral = emission[c][M - 1] * inverse.R[M];
-      for (int j = M - 2; j >= 0; --j)
-      {
-        integral = emission[c][j] * inverse.R[j + 1] + this->L * integral;
-      }
-      whole[c] = this->L * integral;
-      largest = std::max(largest, std::abs(whole[c]));
-    }
-    if (largest * this->Ta * (Real(1) - this->E) <= this->Share())
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        colour[c] += this->Ta * whole[c] * (Real(1) + this->E) / Real(2);
-      }
-      return true;
     }
     Real I[3];
     if (!this->Series(emission, this->Budget / (Real(2) * this->Ta), I))
