@@ -559,6 +559,14 @@ TEST(Frame, MixturesMatchTheCore)
   mixture.SetIndependent(2, functions, weights);
   an::PiecewiseMixture<double> pieces;
   ASSERT_EQ(pieces.Build(mixture, an::PiecewiseRelativeError(1e-3)), "");
+  // The second of weight 0: the first alone shows, a single component's
+  // rays (in the kernels' lanes for the frame).
+  const double soloWeights[2] = { 0.8, 0.0 };
+  an::MixtureTransferFunction<double> solo;
+  solo.SetIndependent(2, functions, soloWeights);
+  an::PiecewiseMixture<double> soloPieces;
+  ASSERT_EQ(soloPieces.Build(solo, an::PiecewiseRelativeError(1e-3)), "");
+  ASSERT_NE(soloPieces.GetSingle(), nullptr);
   an::EmptySpaceMap<double> map;
   map.SetDimensions(scene.Case.Dimensions);
   map.ComputeRanges(bytes.data(), an::EmptySpaceMap<double>::Samples::Points, 2);
@@ -582,14 +590,17 @@ TEST(Frame, MixturesMatchTheCore)
     ae::Integration Kind;
     bool Clipped;
     ae::ScalarField Field;
+    bool Solo = false;
   };
   for (const Run run : { Run{ ae::Integration::Piecewise, false, ae::ScalarField::Trilinear },
          Run{ ae::Integration::Piecewise, true, ae::ScalarField::Trilinear },
          Run{ ae::Integration::Piecewise, false, ae::ScalarField::Nearest },
+         Run{ ae::Integration::Piecewise, false, ae::ScalarField::Trilinear, true },
          Run{ ae::Integration::Riemann, false, ae::ScalarField::Trilinear },
          Run{ ae::Integration::AdaptiveCoupled, false, ae::ScalarField::Trilinear },
          Run{ ae::Integration::Reference, false, ae::ScalarField::Trilinear } })
   {
+    const an::PiecewiseMixture<double>& runPieces = run.Solo ? soloPieces : pieces;
     scene.Frame.Clip = an::ClipRegion<double>();
     if (run.Clipped)
     {
@@ -601,8 +612,8 @@ TEST(Frame, MixturesMatchTheCore)
     method.Adaptive.Tolerance = 1e-3;
     method.Adaptive.FieldMaximum = 255.0;
     method.SampleDistance = 0.5;
-    method.Mixture = &mixture;
-    method.MixturePieces = &pieces;
+    method.Mixture = run.Solo ? &solo : &mixture;
+    method.MixturePieces = &runPieces;
     method.Map = &map;
     ae::FrameStatistics stats;
     const std::vector<float> image = Cast(scene, scalars, method, Serial, &stats);
@@ -627,7 +638,7 @@ TEST(Frame, MixturesMatchTheCore)
             .RGBA;
         default:
           return an::IntegratePiecewiseMixture(
-            v, wo, wd, segments.data(), segments.size(), pieces, 1e-3)
+            v, wo, wd, segments.data(), segments.size(), runPieces, 1e-3)
             .RGBA;
       }
     };
@@ -638,7 +649,8 @@ TEST(Frame, MixturesMatchTheCore)
                                                      : core(volumes, o, d, D, segments);
       });
     const std::string what = "kind " + std::to_string(static_cast<int>(run.Kind)) +
-      (run.Clipped ? " clipped" : "") + (run.Field == ae::ScalarField::Nearest ? " nearest" : "");
+      (run.Clipped ? " clipped" : "") + (run.Field == ae::ScalarField::Nearest ? " nearest" : "") +
+      (run.Solo ? " solo" : "");
     EXPECT_LE(a.Error, ImageRounding) << what;
     EXPECT_GT(a.Opacity, 0.2) << what;
     // Without the map: the same image within the method's tolerance.

@@ -431,6 +431,14 @@ void Composite(const an::ComponentVolumes<double, VolumeT>& volume, const FrameM
         : an::IntegrateReference(field, medium, segments.data(), segments.size());
       return;
     case Integration::Piecewise:
+      if (const an::PiecewiseTransferFunction<double>* single = method.MixturePieces->GetSingle())
+      {
+        // One component shows: a single component's rays, in the kernels' lanes.
+        result = an::IntegratePiecewise(volume[method.MixturePieces->GetSingleComponent()], origin,
+          direction, segments.data(), segments.size(), *single, method.Adaptive.Tolerance, true,
+          steps, method.Kernels);
+        return;
+      }
       result = an::IntegratePiecewiseMixture(volume, origin, direction, segments.data(),
         segments.size(), *method.MixturePieces, method.Adaptive.Tolerance, true, steps);
       return;

@@ -248,6 +248,62 @@ TEST(Mixture, TransparentSecondComponentGivesTheFirstsImage)
   }
 }
 
+// A mixture in which one component alone shows is that component's medium
+// with its extinction times its weight: bitwise the single component's
+// rays with the weight in its knots (a weight of 2 scales them exactly), in
+// both opacity models; with both showing, no single medium.
+TEST(Mixture, OneVisibleComponentIsASingleComponent)
+{
+  for (const an::OpacityModel model : { an::OpacityModel::Extinction, an::OpacityModel::Alpha })
+  {
+    const adversarial::Case first = adversarial::MakeVolume("smooth", adversarial::Smooth, 4);
+    adversarial::Case second = adversarial::MakeVolume("two", adversarial::TwoMaterial, 5);
+    // The weight in the knots: twice the extinction knots (the extinction
+    // model), or half the unit distance (twice -ln(1 - alpha) per unit
+    // distance): exact scalings by 2.
+    an::TransferFunction<double> visible = adversarial::Random(7, 12, 0.4);
+    an::TransferFunction<double> doubled =
+      adversarial::Random(7, 12, model == an::OpacityModel::Extinction ? 0.8 : 0.4);
+    visible.SetOpacityModel(model);
+    doubled.SetOpacityModel(model, model == an::OpacityModel::Extinction ? 1.0 : 0.5);
+    visible.Finalize();
+    doubled.Finalize();
+    second.TF = adversarial::Random(3, 16, 0.0); // colours, no opacity
+    for (const int shown : { 0, 1 })
+    {
+      std::vector<adversarial::Case> parts = { first, second };
+      if (shown == 1)
+      {
+        std::swap(parts[0], parts[1]);
+      }
+      mixture::Case both = mixture::Interleave("one shows", parts);
+      both.TF[shown] = visible;
+      both.Weights[shown] = 2.0;
+      const double eps = 1e-3;
+      an::PiecewiseMixture<double> pieces;
+      ASSERT_EQ(pieces.Build(both.Mixture(), an::PiecewiseRelativeError(eps)), "");
+      ASSERT_NE(pieces.GetSingle(), nullptr);
+      EXPECT_EQ(pieces.GetSingleComponent(), shown);
+      an::PiecewiseTransferFunction<double> single;
+      ASSERT_EQ(single.Build(doubled, an::PiecewiseRelativeError(eps)), "");
+      const Volumes volumes = both.MakeVolumes();
+      for (unsigned i = 0; i < 20; ++i)
+      {
+        const adversarial::Ray ray = mixture::MakeRay(both, i);
+        const an::RayResult<double> r = mixture::Piecewise(both, pieces, ray, eps);
+        const an::Interval<double> whole{ 0.0, ray.Length };
+        const an::RayResult<double> alone =
+          an::IntegratePiecewise(volumes[shown], ray.Origin, ray.Direction, &whole, 1, single, eps);
+        ASSERT_EQ(r.Error, "");
+        EXPECT_EQ(r.RGBA, alone.RGBA) << "ray " << i;
+      }
+      both.TF[1 - shown] = visible;
+      ASSERT_EQ(pieces.Build(both.Mixture(), an::PiecewiseRelativeError(eps)), "");
+      EXPECT_EQ(pieces.GetSingle(), nullptr);
+    }
+  }
+}
+
 // The adversarial mixtures (thin spikes, steps, extinction up to 20 per
 // voxel, three components, both dependent mixtures): every channel of every
 // ray within eps of the oracle at 1e-2, 1e-3 and 1e-5, and the Riemann sum

@@ -36,6 +36,9 @@
 //   E_c >= 0: within [e^{-theta(l)}, 1] int E_c, whose midpoint errs by at
 //   most (1 - e^{-theta(l)}) int E_c / 2, or else the power series of
 //   e^{-theta} on sub-intervals with a proven tail (SeriesIntegrals).
+// A mixture in which one component alone shows (the others of weight 0 or
+// transparent everywhere) is that component's medium, its weight in its
+// extinction: its rays are IntegratePiecewise's on that component.
 // The tolerance eps is split as IntegratePiecewise's: 0.6 eps for these
 // remainders (a sub-interval's share (Ta dT + h / L) / 2 of it, summing to
 // at most 0.6 eps over the ray), 0.15 eps for early termination, 0.25 eps for
@@ -354,6 +357,7 @@ public:
   std::string Build(const MixtureTransferFunction<Real>& mixture, Real relativeError)
   {
     this->Terms.clear();
+    this->HasSingle = false;
     this->Read = 0;
     std::string error = mixture.Validate();
     const ComponentMix mix = mixture.GetMix();
@@ -394,8 +398,27 @@ public:
     {
       this->Read |= (1u << t.Opacity) | (t.Direct ? 7u : (1u << t.Colour));
     }
+    // One term of one component: a single component's medium, its weight
+    // in its extinction.
+    this->HasSingle = this->Terms.size() == 1 && mix == ComponentMix::Independent;
+    if (this->HasSingle)
+    {
+      this->Single = *this->Terms[0].Pieces;
+      this->Single.ScaleExtinction(this->Terms[0].Weight);
+    }
     return std::string();
   }
+
+  // The medium when one component alone shows (an independent mixture of
+  // one term, the others of weight 0 or transparent): that component's
+  // pieces with the extinction times its weight, integrated as one
+  // component's (IntegratePiecewise, same bound); null otherwise.
+  const PiecewiseTransferFunction<Real>* GetSingle() const
+  {
+    return this->HasSingle ? &this->Single : nullptr;
+  }
+  // The component GetSingle's medium reads.
+  int GetSingleComponent() const { return this->HasSingle ? this->Terms[0].Opacity : -1; }
 
   const std::vector<Term>& GetTerms() const { return this->Terms; }
   // Whether component k is read by a term.
@@ -407,6 +430,8 @@ public:
 private:
   std::array<PiecewiseTransferFunction<Real>, MaximumComponents> Functions;
   std::vector<Term> Terms;
+  PiecewiseTransferFunction<Real> Single;
+  bool HasSingle = false;
   unsigned Read = 0;
   int Count = 0;
   Real Scale = Real(0);
@@ -988,6 +1013,11 @@ RayResult<Real> IntegratePiecewiseMixture(const ComponentVolumes<Real, VolumeT>&
   if (!result.Error.empty() || !(L > Real(0)))
   {
     return result;
+  }
+  if (const PiecewiseTransferFunction<Real>* single = mixture.GetSingle())
+  {
+    return IntegratePiecewise(volumes[mixture.GetSingleComponent()], origin, direction, segments,
+      count, *single, tolerance, earlyTermination, steps);
   }
   detail::MixtureRay<Real, VolumeT> ray(
     volumes, origin, direction, mixture, tolerance, L, earlyTermination, result);

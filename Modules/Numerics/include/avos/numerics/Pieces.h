@@ -247,6 +247,19 @@ public:
     return i;
   }
 
+  // Multiplies the extinction by `weight` > 0 (a mixture's only term, at
+  // one rounding per coefficient); which pieces are visible is unchanged.
+  void ScaleExtinction(Real weight)
+  {
+    for (Piece& p : this->Pieces)
+    {
+      p.Tau *= weight;
+      p.TauSlope *= weight;
+      p.TauCurvature *= weight;
+      p.TauCubic *= weight;
+    }
+  }
+
   const Piece& operator[](std::size_t i) const { return this->Pieces[i]; }
   std::size_t GetNumberOfPieces() const { return this->Pieces.size(); }
   const std::vector<Real>& GetKnots() const { return this->Locator.GetKnots(); }
