@@ -647,6 +647,19 @@ std::string avos::GradientOpacityFromProperty(
   return tf.Validate();
 }
 
+std::string avos::GradientOpacityConversion::Update(vtkVolumeProperty* property, int& approximated)
+{
+  approximated = 0;
+  vtkPiecewiseFunction* source = property->GetGradientOpacity(0);
+  if (source != this->Source || source->GetMTime() != this->SourceTime)
+  {
+    this->Error = GradientOpacityFromProperty(property, this->Function, approximated);
+    this->Source = source;
+    this->SourceTime = source->GetMTime();
+  }
+  return this->Error;
+}
+
 std::string avos::UnsupportedPropertySettings(
   vtkVolumeProperty* property, bool shading, bool nearest, int components, bool gradientOpacity)
 {

@@ -7,6 +7,7 @@
 #define avosTransferFunctionFromProperty_h
 
 #include "avosRenderingAdaptiveVolumeModule.h" // For export macro
+#include "vtkType.h"                           // For vtkMTimeType
 
 #include "avos/numerics/Mixture.h"          // For MixtureTransferFunction
 #include "avos/numerics/TransferFunction.h" // For TransferFunction
@@ -193,6 +194,30 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool UsesGradientOpacity(
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string GradientOpacityFromProperty(
   vtkVolumeProperty* property, avos::numerics::TransferFunction<double>& tf, int& approximated);
+
+/**
+ * GradientOpacityFromProperty kept between frames: converted again only
+ * when the first component's gradient opacity function changes (another
+ * function, or its MTime), so that a mapper converts it, and warns of what
+ * it resampled, once per change.
+ */
+class AVOSRENDERINGADAPTIVEVOLUME_EXPORT GradientOpacityConversion
+{
+public:
+  /**
+   * The conversion of `property`'s function; `approximated` is what this
+   * call resampled (0 when it reused the last conversion). Empty, or why
+   * the function cannot be used.
+   */
+  std::string Update(vtkVolumeProperty* property, int& approximated);
+  const avos::numerics::TransferFunction<double>& Get() const { return this->Function; }
+
+private:
+  vtkPiecewiseFunction* Source = nullptr;
+  vtkMTimeType SourceTime = 0;
+  std::string Error;
+  avos::numerics::TransferFunction<double> Function;
+};
 }
 
 #endif

@@ -183,7 +183,7 @@ public:
   // UpdateGradientOpacity: the first component's gradient opacity, when it
   // changes anything (FrameMethod::GradientOpacity points here).
   bool UsesGradientOpacity = false;
-  TransferFunction GradientFunction;
+  avos::GradientOpacityConversion GradientConversion;
   an::GradientOpacity<double> Gradient;
   std::vector<double> ShadingKey;
   // The transfer function in pieces, built for a relative error (the alpha
@@ -665,8 +665,7 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
     return false;
   }
   int approximated = 0;
-  const std::string error =
-    avos::GradientOpacityFromProperty(property, internals.GradientFunction, approximated);
+  const std::string error = internals.GradientConversion.Update(property, approximated);
   if (!error.empty())
   {
     vtkErrorMacro(<< "Unusable gradient opacity: " << error << ".");
@@ -677,7 +676,7 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
     vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
   }
   // Gradients in grid coordinates to world space (scalar units per world unit).
-  internals.Gradient.Function = &internals.GradientFunction;
+  internals.Gradient.Function = &internals.GradientConversion.Get();
   internals.Gradient.NormalMatrix = avos::NormalMatrix(internals.GridToWorld->GetData());
   return true;
 }

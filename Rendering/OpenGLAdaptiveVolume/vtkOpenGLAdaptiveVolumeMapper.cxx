@@ -207,7 +207,7 @@ public:
   // This frame's gradient opacity (UpdateGradientOpacity): G as the
   // opacity knots of a transfer function over the gradient's magnitude.
   bool UsesGradientOpacity = false;
-  avos::numerics::TransferFunction<double> GradientFunction;
+  avos::GradientOpacityConversion GradientConversion;
 
   // Empty-space skipping: the blocks' ranges (rebuilt when the scalars
   // change) and their visibility as a 3D texture (rebuilt when the ranges or
@@ -544,8 +544,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProper
   if (internals.UsesGradientOpacity)
   {
     int approximated = 0;
-    const std::string error =
-      avos::GradientOpacityFromProperty(property, internals.GradientFunction, approximated);
+    const std::string error = internals.GradientConversion.Update(property, approximated);
     if (!error.empty())
     {
       return "unusable gradient opacity: " + error;
@@ -554,7 +553,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProper
     {
       vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
     }
-    if (internals.GradientFunction.GetPieces().size() >
+    if (internals.GradientConversion.Get().GetPieces().size() >
       static_cast<std::size_t>(MaximumGradientPieces))
     {
       return "the gradient opacity function has more than " +
@@ -908,7 +907,7 @@ void vtkOpenGLAdaptiveVolumeMapper::SetGradientOpacityUniforms(vtkUniforms* unif
   const vtkInternals& internals = *this->Internals;
   uniforms->SetUniformi("avos_gradientOpacity", internals.UsesGradientOpacity ? 1 : 0);
   float pieces[MaximumGradientPieces][4] = {};
-  const auto& g = internals.GradientFunction.GetPieces();
+  const auto& g = internals.GradientConversion.Get().GetPieces();
   const int count = internals.UsesGradientOpacity ? static_cast<int>(g.size()) : 0;
   for (int i = 0; i < count; ++i)
   {
@@ -921,7 +920,7 @@ void vtkOpenGLAdaptiveVolumeMapper::SetGradientOpacityUniforms(vtkUniforms* unif
   uniforms->SetUniform4fv("avos_gPiece", MaximumGradientPieces, pieces);
   uniforms->SetUniformi("avos_gCount", std::max(count, 1));
   uniforms->SetUniformf(
-    "avos_gBelow", count > 0 ? float(internals.GradientFunction.GetOpacityBelow()) : 1.0f);
+    "avos_gBelow", count > 0 ? float(internals.GradientConversion.Get().GetOpacityBelow()) : 1.0f);
 }
 
 //------------------------------------------------------------------------------

@@ -13,6 +13,8 @@
 // - Marschner-Lobb, whose gradient varies along every ray (the extinction
 //   is enclosed, not exact): the piecewise method at 1e-2 and 1e-3 within
 //   its tolerance of the reference on every pixel, unshaded and shaded.
+// - A curved G (a sharpness moved): resampled with a notice said once per
+//   change of the function, not every frame.
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkAnalyticVolumeSource.h"
 #include "vtkFloatArray.h"
@@ -160,8 +162,26 @@ int TestAdaptiveVolumeMapperGradientOpacity(int, char*[])
     check(Apart(ignored, reference) > 0.05, what + ": G ignored is far from it");
   }
 
-  // Refused where it is not integrated.
+  // A curved gradient opacity function is resampled with a notice, said
+  // once per change of the function, not every frame.
   property->DisableGradientOpacityOff();
+  vtkNew<vtkPiecewiseFunction> curved;
+  curved->AddPoint(0.0, 1.0, 0.5, 0.5);
+  curved->AddPoint(80.0, 0.0);
+  property->SetGradientOpacity(curved);
+  scene.Mapper->SetIntegrationMethodToPiecewiseAdaptive();
+  scene.Window->Render();
+  check(errors.CheckWarning("curved G", "approximated"), "a curved G is resampled with a notice");
+  const std::vector<float> before = Render(scene, errors, "curved G again");
+  check(!before.empty(), "the notice is said once, not every frame");
+  curved->AddPoint(80.0, 0.5);
+  scene.Window->Render();
+  check(errors.CheckWarning("curved G changed", "approximated"),
+    "a changed function is converted again");
+  check(Apart(Render(scene, errors, "changed G again"), before) > 0.01,
+    "the image follows the changed function");
+
+  // Refused where it is not integrated.
   scene.Mapper->SetIntegrationMethodToRiemann();
   scene.Mapper->SetBlendModeToMaximumIntensity();
   scene.Window->Render();
