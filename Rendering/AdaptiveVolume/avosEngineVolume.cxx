@@ -75,22 +75,30 @@ avos::engine::Volume::Type EngineVolume::EngineType(int vtkScalarType)
   }
 }
 
-const avos::engine::Volume* EngineVolume::Update(vtkDataArray* scalars, const int dimensions[3])
+const avos::engine::Volume* EngineVolume::Update(
+  vtkDataArray* scalars, const int dimensions[3], int component)
 {
   using Type = avos::engine::Volume::Type;
   const std::array<int, 3> dims{ { dimensions[0], dimensions[1], dimensions[2] } };
   const int type = scalars->GetDataType();
+  const int tuple = scalars->GetNumberOfComponents();
   const bool inPlace = EngineType(type) != Type::Float32 || type == VTK_FLOAT;
   if (!inPlace && scalars == this->Scalars && scalars->GetMTime() == this->ScalarsTime &&
-    dims == this->Dimensions)
+    dims == this->Dimensions && component == this->Component)
   {
     return this->Usable ? &this->View : nullptr;
+  }
+  if (component < 0 || component >= tuple)
+  {
+    return nullptr;
   }
   const vtkIdType count = scalars->GetNumberOfTuples();
   std::copy(dimensions, dimensions + 3, this->View.Dimensions);
   this->View.Scalars = EngineType(type);
   // Whether the kernels can index it, before converting anything.
-  this->View.Data = scalars->GetVoidPointer(0);
+  this->View.Data = scalars->GetVoidPointer(component);
+  this->View.Stride = tuple;
+  this->View.Trailing = tuple - 1 - component;
   this->Usable = avos::engine::Validate(this->View).empty() &&
     count == static_cast<vtkIdType>(dims[0]) * dims[1] * dims[2];
   if (inPlace || !this->Usable)
@@ -108,20 +116,23 @@ const avos::engine::Volume* EngineVolume::Update(vtkDataArray* scalars, const in
         {
           for (vtkIdType i = begin; i < end; ++i)
           {
-            target[i] = static_cast<float>(data[i]);
+            target[i] = static_cast<float>(data[i * tuple]);
           }
         });
     };
     switch (type)
     {
-      vtkTemplateMacro(convert(static_cast<const VTK_TT*>(scalars->GetVoidPointer(0))));
+      vtkTemplateMacro(convert(static_cast<const VTK_TT*>(scalars->GetVoidPointer(component))));
       default:
         this->Usable = false;
     }
     this->View.Data = target;
+    this->View.Stride = 1;
+    this->View.Trailing = 0;
   }
   this->Scalars = scalars;
   this->ScalarsTime = scalars->GetMTime();
+  this->Component = component;
   this->Dimensions = dims;
   return this->Usable ? &this->View : nullptr;
 }

@@ -1,8 +1,9 @@
 // A volume's scalars as the vectorised engine reads them (avos/engine/
 // Riemann.h): 8- and 16-bit integers (signed or not) and floats read in
-// place from the VTK array, any other type (32- and 64-bit integers,
-// doubles) converted once to float, 4 bytes per point, and kept until the
-// scalars (the array or its MTime) or the dimensions change. Shared by
+// place from the VTK array (one component of several too), any other type
+// (32- and 64-bit integers, doubles) converted once to float, 4 bytes per
+// point, and kept until the scalars (the array or its MTime), the component
+// or the dimensions change. Shared by
 // vtkAdaptiveVolumeMapper and the Volume-on-Surface rays. Not wrapped.
 #ifndef avosEngineVolume_h
 #define avosEngineVolume_h
@@ -30,11 +31,13 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ScalarsInPlace(
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EngineVolume
 {
 public:
-  /// The engine's view of the scalars (single component, one per grid point
-  /// of `dimensions`), brought up to date; null when the engine cannot take
+  /// The engine's view of component `component` of the scalars (a tuple per
+  /// grid point of `dimensions`; in place, one component of interleaved
+  /// tuples included), brought up to date; null when the engine cannot take
   /// the volume (beyond its 32-bit indices, or an unknown scalar type): the
   /// caller then takes the scalar path.
-  const avos::engine::Volume* Update(vtkDataArray* scalars, const int dimensions[3]);
+  const avos::engine::Volume* Update(
+    vtkDataArray* scalars, const int dimensions[3], int component = 0);
 
   /// How the engine reads scalars of a VTK type: 8- and 16-bit integers and
   /// floats as they are (in place), Float32 for the rest (converted).
@@ -46,6 +49,7 @@ private:
   bool Usable = false;
   vtkDataArray* Scalars = nullptr; // identity only; its MTime guards reuse
   vtkMTimeType ScalarsTime = 0;
+  int Component = 0;
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
 };
 }

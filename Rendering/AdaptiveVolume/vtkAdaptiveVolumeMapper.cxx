@@ -739,16 +739,22 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // The Riemann kernel's scalars and table (volumes beyond its 32-bit
   // indices take the scalar sum; shaded sums too: the kernels do not shade),
   // and the scalars alone for the piecewise method's cells where they are 8-
-  // or 16-bit unsigned (the only ones the cells' kernel reads).
-  // (The kernels read the trilinear interpolant of a single component only.)
+  // or 16-bit unsigned (the only ones the cells' kernel reads). The kernels
+  // read the trilinear interpolant of one component, in place: the scalars'
+  // only one, the vector mode's, or the only one of a mixture that shows
+  // (its rays are then a single component's, PiecewiseMixture::GetSingle).
+  const bool mixture = internals.Components > 1;
+  const int shown = mixture && internals.Piecewise ? internals.MixturePieces.GetSingleComponent()
+                                                   : std::max(internals.Component, 0);
   const bool readable =
-    internals.View.Field == avos::engine::ScalarField::Trilinear && internals.View.GetStride() == 1;
+    internals.View.Field == avos::engine::ScalarField::Trilinear && (!mixture || shown >= 0);
   const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade &&
-    !internals.UsesGradientOpacity && readable;
+    !internals.UsesGradientOpacity && readable && !mixture;
   const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && readable &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
-  const avos::engine::Volume* kernelScalars =
-    riemann || cells ? internals.EngineScalars.Update(scalars, internals.Dimensions) : nullptr;
+  const avos::engine::Volume* kernelScalars = riemann || cells
+    ? internals.EngineScalars.Update(scalars, internals.Dimensions, shown)
+    : nullptr;
   internals.RiemannScalars = riemann ? kernelScalars : nullptr;
   internals.CellScalars = cells ? kernelScalars : nullptr;
   if (internals.RiemannScalars &&
@@ -764,7 +770,7 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   }
   // The pieces' table for the piecewise method's ray-per-lane integrator,
   // where it can read the scalars.
-  internals.PieceLanes = internals.CellScalars &&
+  internals.PieceLanes = internals.CellScalars && !mixture &&
     avos::engine::ValidatePiecewiseRays(*internals.CellScalars, internals.Pieces).empty();
   if (internals.PieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
   {

@@ -323,20 +323,27 @@ TEST_P(PieceKernelsTargets, RaysMatchScalarAndHoldTolerance)
 // scaled by 200) and their transfer functions over the same span, as the
 // walk reads them and as the engine does (in place, the array ending where
 // readable memory ends).
+// Component Component of tuples of Stride scalars (1: contiguous), the
+// others holding other values: the kernels read one component of
+// interleaved tuples in place, up to the guarded array's end where the
+// component is the tuple's last.
 struct Narrow
 {
   std::string Name;
   int Dimensions[3] = { 0, 0, 0 };
   bool Sixteen = false;
+  int Stride = 1, Component = 0;
   avostest::GuardedArray<std::uint8_t> Bytes; // the scalars, little endian
   an::TransferFunction<double> TF;
 
   ae::Volume Engine() const
   {
     ae::Volume v;
-    v.Data = this->Bytes.data();
+    v.Data = this->Bytes.data() + this->Component * (this->Sixteen ? 2 : 1);
     v.Scalars = this->Sixteen ? ae::Volume::Type::UInt16 : ae::Volume::Type::UInt8;
     std::copy(this->Dimensions, this->Dimensions + 3, v.Dimensions);
+    v.Stride = this->Stride;
+    v.Trailing = this->Stride - 1 - this->Component;
     return v;
   }
 };
@@ -350,7 +357,12 @@ std::vector<Narrow> NarrowCases()
     for (bool sixteen : { false, true })
     {
       Narrow n;
-      n.Name = c.Name;
+      // Contiguous, the first of 2, the last of 2, the last of 3, in turn.
+      const int layout = static_cast<int>(cases.size() % 4);
+      n.Stride = layout == 0 ? 1 : (layout == 3 ? 3 : 2);
+      n.Component = layout == 0 || layout == 1 ? 0 : n.Stride - 1;
+      n.Name = c.Name + " (component " + std::to_string(n.Component) + " of " +
+        std::to_string(n.Stride) + ")";
       n.Sixteen = sixteen;
       std::copy(c.Dimensions, c.Dimensions + 3, n.Dimensions);
       const double scale = sixteen ? 200.0 : 1.0;
@@ -358,10 +370,14 @@ std::vector<Narrow> NarrowCases()
       for (double v : c.Data)
       {
         const auto q = static_cast<std::uint16_t>(std::lround(v * scale));
-        bytes.push_back(static_cast<std::uint8_t>(q & 0xFF));
-        if (sixteen)
+        for (int k = 0; k < n.Stride; ++k)
         {
-          bytes.push_back(static_cast<std::uint8_t>(q >> 8));
+          const std::uint16_t w = k == n.Component ? q : static_cast<std::uint16_t>(q * 7u + 13u);
+          bytes.push_back(static_cast<std::uint8_t>(w & 0xFF));
+          if (sixteen)
+          {
+            bytes.push_back(static_cast<std::uint8_t>(w >> 8));
+          }
         }
       }
       n.Bytes = avostest::GuardedArray<std::uint8_t>(bytes);
@@ -455,12 +471,13 @@ template <typename Storage>
 an::TrilinearVolume<double, Storage> WalkVolume(const Narrow& n)
 {
   return an::TrilinearVolume<double, Storage>(
-    reinterpret_cast<const Storage*>(n.Bytes.data()), n.Dimensions);
+    reinterpret_cast<const Storage*>(n.Bytes.data()) + n.Component, n.Dimensions, n.Stride);
 }
 
-// The cells' stage on 8- and 16-bit volumes: the vectorised kernel takes
-// them (unit tables) and gives what the scalar one does to the bit: the
-// same classification and the same cubic.
+// The cells' stage on 8- and 16-bit volumes, contiguous or one component of
+// interleaved tuples: the vectorised kernel takes them (unit tables) and
+// gives what the scalar one does to the bit: the same classification and
+// the same cubic; never a read past the array's end.
 TEST_P(PieceKernelsTargets, CellsMatchScalar)
 {
   long cells = 0, visible = 0, mismatches = 0, crossed = 0, rootMismatches = 0;
@@ -481,11 +498,16 @@ TEST_P(PieceKernelsTargets, CellsMatchScalar)
     kernels.Cubic = &cubic;
     kernels.Crossed = &crossed;
     kernels.RootMismatches = &rootMismatches;
-    for (unsigned i = 0; i < 40; ++i)
+    // Random rays, and one from the last point (the array's last scalars:
+    // the last cell's corners first) along the diagonal.
+    const glm::dvec3 last(n.Dimensions[0] - 1, n.Dimensions[1] - 1, n.Dimensions[2] - 1);
+    for (unsigned i = 0; i <= 40; ++i)
     {
       adversarial::Case shape;
       std::copy(n.Dimensions, n.Dimensions + 3, shape.Dimensions);
-      const adversarial::Ray ray = adversarial::MakeRay(shape, i);
+      const adversarial::Ray ray = i < 40
+        ? adversarial::MakeRay(shape, i)
+        : adversarial::Ray{ last, -glm::normalize(last), glm::length(last) };
       const an::Interval<double> whole{ 0.0, ray.Length };
       const auto r = n.Sixteen ? an::IntegratePiecewise(WalkVolume<std::uint16_t>(n), ray.Origin,
                                    ray.Direction, &whole, 1, tf, eps, true, nullptr, kernels)

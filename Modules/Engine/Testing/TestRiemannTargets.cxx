@@ -40,6 +40,8 @@ struct Scene
   avostest::GuardedArray<std::uint16_t> Words;
   avostest::GuardedArray<std::int8_t> SignedBytes;
   avostest::GuardedArray<std::int16_t> SignedWords;
+  // The scalars are component Component of tuples of Stride values.
+  int Stride = 1, Component = 0;
 
   ae::Volume View() const
   {
@@ -48,31 +50,35 @@ struct Scene
     switch (this->Type)
     {
       case ae::Volume::Type::UInt8:
-        volume.Data = this->Bytes.data();
+        volume.Data = this->Bytes.data() + this->Component;
         break;
       case ae::Volume::Type::UInt16:
-        volume.Data = this->Words.data();
+        volume.Data = this->Words.data() + this->Component;
         break;
       case ae::Volume::Type::Int8:
-        volume.Data = this->SignedBytes.data();
+        volume.Data = this->SignedBytes.data() + this->Component;
         break;
       case ae::Volume::Type::Int16:
-        volume.Data = this->SignedWords.data();
+        volume.Data = this->SignedWords.data() + this->Component;
         break;
       default:
-        volume.Data = this->Floats.data();
+        volume.Data = this->Floats.data() + this->Component;
     }
     std::copy(this->Case.Dimensions, this->Case.Dimensions + 3, volume.Dimensions);
+    volume.Stride = this->Stride;
+    volume.Trailing = this->Stride - 1 - this->Component;
     return volume;
   }
 };
 
 Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::Type::Float32,
-  bool integralKnots = false)
+  bool integralKnots = false, int stride = 1, int component = 0)
 {
   using Type = ae::Volume::Type;
   Scene scene;
   scene.Type = type;
+  scene.Stride = stride;
+  scene.Component = component;
   scene.Case = adversarial::MakeVolume("smooth", adversarial::Smooth, seed);
   // 16-bit data spans 65536 values (the high byte matters), signed data
   // starts at the type's lowest (the sign bit matters).
@@ -93,24 +99,33 @@ Scene MakeScene(unsigned seed, bool alpha, ae::Volume::Type type = ae::Volume::T
     scene.Case.TF.SetOpacityModel(an::OpacityModel::Alpha, 0.7);
     scene.Case.TF.Finalize();
   }
+  // The tuples: the scene's values, the other components the type's lowest.
+  std::vector<double> stored;
+  for (const double v : scene.Case.Data)
+  {
+    for (int k = 0; k < stride; ++k)
+    {
+      stored.push_back(k == component ? v : bottom);
+    }
+  }
   // Only the storage of the scene's type: 16-bit values do not fit a byte
   // (converting them would be undefined behaviour, found by clang's UBSan).
   switch (type)
   {
     case Type::UInt8:
-      scene.Bytes = avostest::GuardedArray<std::uint8_t>(scene.Case.Data);
+      scene.Bytes = avostest::GuardedArray<std::uint8_t>(stored);
       break;
     case Type::UInt16:
-      scene.Words = avostest::GuardedArray<std::uint16_t>(scene.Case.Data);
+      scene.Words = avostest::GuardedArray<std::uint16_t>(stored);
       break;
     case Type::Int8:
-      scene.SignedBytes = avostest::GuardedArray<std::int8_t>(scene.Case.Data);
+      scene.SignedBytes = avostest::GuardedArray<std::int8_t>(stored);
       break;
     case Type::Int16:
-      scene.SignedWords = avostest::GuardedArray<std::int16_t>(scene.Case.Data);
+      scene.SignedWords = avostest::GuardedArray<std::int16_t>(stored);
       break;
     default:
-      scene.Floats.assign(scene.Case.Data.begin(), scene.Case.Data.end());
+      scene.Floats.assign(stored.begin(), stored.end());
   }
   return scene;
 }
@@ -133,11 +148,16 @@ Worst Compare(const Scene& scene, unsigned count, double h, double terminationBo
   EXPECT_EQ(table.Build(c.TF), "");
   const an::TrilinearVolume<double, double> field(c.Data.data(), c.Dimensions);
   Worst worst;
-  for (unsigned i = 0; i < count; ++i)
+  // Random rays, and one from the last point (the array's last scalars)
+  // along the diagonal.
+  const glm::dvec3 last(c.Dimensions[0] - 1, c.Dimensions[1] - 1, c.Dimensions[2] - 1);
+  for (unsigned i = 0; i <= count; ++i)
   {
-    const adversarial::Ray ray = adversarial::MakeRay(c, i);
+    const adversarial::Ray ray = i < count
+      ? adversarial::MakeRay(c, i)
+      : adversarial::Ray{ last, -glm::normalize(last), glm::length(last) };
     std::vector<an::Interval<double>> segments{ { 0.0, ray.Length } };
-    if (split && ray.Length > 4.0)
+    if (split && ray.Length > 4.0 && i < count)
     {
       // Three segments with gaps, as empty-space skipping hands them over.
       const double L = ray.Length;
@@ -207,6 +227,24 @@ TEST_P(RiemannTargets, IntegerScalars)
       const Scene scene = MakeScene(seed, seed == 3, type);
       const Worst w = Compare(scene, 300, 0.5, 0.0, true);
       EXPECT_LE(w.Error, 1e-4) << "type " << int(type) << " seed " << seed;
+      EXPECT_EQ(w.SampleMismatches, 0);
+      EXPECT_GT(w.Opacity, 0.5) << "the rays see the volume";
+    }
+  }
+}
+
+// One component of interleaved tuples read in place (the first of 2, the
+// last of 3: the array's last scalar), every type.
+TEST_P(RiemannTargets, OneComponentOfSeveral)
+{
+  using Type = ae::Volume::Type;
+  for (Type type : { Type::Float32, Type::UInt8, Type::UInt16, Type::Int8, Type::Int16 })
+  {
+    for (const int stride : { 2, 3 })
+    {
+      const Scene scene = MakeScene(2, stride == 3, type, false, stride, stride == 2 ? 0 : 2);
+      const Worst w = Compare(scene, 200, 0.5, 0.0, true);
+      EXPECT_LE(w.Error, 1e-4) << "type " << int(type) << " stride " << stride;
       EXPECT_EQ(w.SampleMismatches, 0);
       EXPECT_GT(w.Opacity, 0.5) << "the rays see the volume";
     }

@@ -48,7 +48,6 @@ struct ClassifiedCell
     const numerics::PiecewiseTransferFunction<double>::UnitTables& t, hn::Mask<DI> live, VI ci,
     VI cj, VI ck, V x, V y, V z, V dx, V dy, V dz)
   {
-    constexpr int Size = ScalarBytes(Scalars);
     const std::int32_t sy = v.Dimensions[0], sz = v.Dimensions[0] * v.Dimensions[1];
     const VI zero = hn::Zero(di), one = hn::Set(di, 1);
     const VI base = hn::Set(di, static_cast<std::int32_t>(t.Base));
@@ -57,19 +56,20 @@ struct ClassifiedCell
     const auto* upper = reinterpret_cast<const std::int32_t*>(t.Upper);
     const auto* below = reinterpret_cast<const std::int32_t*>(t.Below);
     const auto* visible = reinterpret_cast<const std::int32_t*>(t.VisibleBefore);
+    const std::int32_t step = StepBytes(v);
     const VI at = hn::IfThenElseZero(live,
       hn::Mul(hn::Add(ci, hn::Add(hn::Mul(cj, hn::Set(di, sy)), hn::Mul(ck, hn::Set(di, sz)))),
-        hn::Set(di, Size)));
+        hn::Set(di, step)));
     const VI lastWord = hn::Set(di, LastWord(v));
     VI c[8];
     const std::int32_t offsets[4] = { 0, sy, sz, sy + sz };
     for (int p = 0; p < 3; ++p)
     {
-      ReadPair<Scalars, false>(
-        di, v.Data, hn::Add(at, hn::Set(di, Size * offsets[p])), lastWord, c[2 * p], c[2 * p + 1]);
+      ReadPair<Scalars, false>(di, v.Data, hn::Add(at, hn::Set(di, step * offsets[p])), lastWord,
+        step, c[2 * p], c[2 * p + 1]);
     }
     ReadPair<Scalars, true>(
-      di, v.Data, hn::Add(at, hn::Set(di, Size * offsets[3])), lastWord, c[6], c[7]);
+      di, v.Data, hn::Add(at, hn::Set(di, step * offsets[3])), lastWord, step, c[6], c[7]);
     VI lo = c[0], hi = c[0];
     for (int k = 1; k < 8; ++k)
     {

@@ -815,9 +815,10 @@ std::string ValidateMixture(const Scalars& scalars, const FrameMethod& method)
   {
     return "scalars of several components are not shaded, nor scaled by gradient opacity";
   }
-  if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
+  if (method.EngineVolume || method.PieceTable ||
+    (method.Kernels.Scalars && !(method.MixturePieces && method.MixturePieces->GetSingle())))
   {
-    return "the engine's kernels read a single component";
+    return "the engine's kernels read a mixture only where one component alone shows";
   }
   return std::string();
 }
@@ -867,10 +868,6 @@ std::string Validate(const Scalars& scalars, const FrameMethod& method)
   if (scalars.GetStride() < scalars.Components)
   {
     return "a tuple's stride must hold its components";
-  }
-  if (scalars.GetStride() != 1 && (method.EngineVolume || method.Kernels.Scalars))
-  {
-    return "the engine's kernels read a single component of contiguous scalars";
   }
   if (scalars.Components != 1)
   {

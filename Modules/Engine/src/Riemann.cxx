@@ -26,25 +26,28 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 constexpr int MaximumLanes = HWY_MAX_BYTES / sizeof(float);
 
-// The scalars at base + offset and base + offset + 1 (a corner and its x
-// neighbour) for every lane; LastPair and lastWord as ReadPair's.
+// The scalars of points base + offset and base + offset + 1 (a corner and
+// its x neighbour) for every lane, `stride` scalars from a point's to the
+// next (Volume::Stride); LastPair and lastWord as ReadPair's.
 template <Volume::Type Scalars, bool LastPair, class D, class VI>
-HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, VI lastWord,
-  hn::Vec<D>& first, hn::Vec<D>& second)
+HWY_INLINE void Pair(D d, const void* data, VI base, std::int32_t offset, std::int32_t stride,
+  VI lastWord, hn::Vec<D>& first, hn::Vec<D>& second)
 {
   const hn::RebindToSigned<D> di;
-  const auto index = hn::Add(base, hn::Set(di, offset));
+  const auto point = hn::Add(base, hn::Set(di, offset));
+  const auto index = stride == 1 ? point : hn::Mul(point, hn::Set(di, stride));
   if (Scalars == Volume::Type::Float32)
   {
     const float* f = static_cast<const float*>(data);
     first = hn::GatherIndex(d, f, index);
-    second = hn::GatherIndex(d, f + 1, index);
+    second = hn::GatherIndex(d, f + stride, index);
   }
   else
   {
-    const auto at = ScalarBytes(Scalars) == 1 ? index : hn::ShiftLeft<1>(index);
+    constexpr int Bytes = ScalarBytes(Scalars);
+    const auto at = Bytes == 1 ? index : hn::ShiftLeft<1>(index);
     VI a, b;
-    ReadPair<Scalars, LastPair>(di, data, at, lastWord, a, b);
+    ReadPair<Scalars, LastPair>(di, data, at, lastWord, stride * Bytes, a, b);
     first = hn::ConvertTo(d, a);
     second = hn::ConvertTo(d, b);
   }
@@ -97,10 +100,11 @@ HWY_INLINE void Classify(D d, const Volume& volume, const TransferTable& tf, hn:
     hn::Add(hn::Add(ix, hn::Mul(iy, hn::Set(di, sy))), hn::Mul(iz, hn::Set(di, sz)));
   const auto lastWord = hn::Set(di, Scalars == Volume::Type::Float32 ? 0 : LastWord(volume));
   hn::Vec<D> v000, v100, v010, v110, v001, v101, v011, v111;
-  Pair<Scalars, false>(d, volume.Data, base, 0, lastWord, v000, v100);
-  Pair<Scalars, false>(d, volume.Data, base, sy, lastWord, v010, v110);
-  Pair<Scalars, false>(d, volume.Data, base, sz, lastWord, v001, v101);
-  Pair<Scalars, true>(d, volume.Data, base, sz + sy, lastWord, v011, v111);
+  const std::int32_t stride = volume.Stride;
+  Pair<Scalars, false>(d, volume.Data, base, 0, stride, lastWord, v000, v100);
+  Pair<Scalars, false>(d, volume.Data, base, sy, stride, lastWord, v010, v110);
+  Pair<Scalars, false>(d, volume.Data, base, sz, stride, lastWord, v001, v101);
+  Pair<Scalars, true>(d, volume.Data, base, sz + sy, stride, lastWord, v011, v111);
   const auto v00 = hn::MulAdd(fx, hn::Sub(v100, v000), v000);
   const auto v10 = hn::MulAdd(fx, hn::Sub(v110, v010), v010);
   const auto v01 = hn::MulAdd(fx, hn::Sub(v101, v001), v001);
@@ -608,12 +612,17 @@ std::string Validate(const Volume& volume)
     }
     points *= volume.Dimensions[a];
   }
+  if (volume.Stride < 1 || volume.Trailing < 0 || volume.Trailing >= volume.Stride)
+  {
+    return "a volume's stride must be at least 1 and hold its trailing scalars";
+  }
   // 16-bit scalars are gathered by byte offset: twice the index.
   const bool words =
     volume.Scalars == Volume::Type::UInt16 || volume.Scalars == Volume::Type::Int16;
-  if (points * (words ? 2.0 : 1.0) > double(std::numeric_limits<std::int32_t>::max()))
+  const double scalars = (points - 1.0) * volume.Stride + 1.0 + volume.Trailing;
+  if (scalars * (words ? 2.0 : 1.0) > double(std::numeric_limits<std::int32_t>::max()))
   {
-    return "the vectorised kernels take at most 2^31 - 1 points (2^30 of 16-bit scalars: 32-bit "
+    return "the vectorised kernels take at most 2^31 - 1 scalars (2^30 of 16-bit ones: 32-bit "
            "gather offsets)";
   }
   return volume.Data ? std::string() : "the volume has no data";

@@ -16,7 +16,10 @@
 // by more than 0.01 (it tells a wrong mixture from a right one); a second
 // component of opacity 0 leaves the first component's image; what the
 // mapper cannot honour is refused. The vector modes render one component,
-// or the tuples' norms, as the one-component volume of them.
+// or the tuples' norms, as the one-component volume of them. The second
+// component's and the vector mode's checks run on double, unsigned char and
+// unsigned short tuples (the latter two read by the vectorised kernels, one
+// component of the tuples in place).
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -28,6 +31,7 @@
 #include "vtkRenderer.h"
 #include "vtkTrivialProducer.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkUnsignedShortArray.h"
 #include "vtkVolumeProperty.h"
 
 #include "ObliqueScene.h"
@@ -217,6 +221,34 @@ void SetScalars(vtkImageData* image, const std::vector<double>& values, int comp
   image->GetPointData()->SetScalars(scalars);
   image->Modified();
 }
+
+// The scalar types whose reading differs: double (the scalar walk), unsigned
+// char and unsigned short (read in place by the vectorised kernels, one
+// component of interleaved tuples too), the values rounded for the latter.
+enum class Stored
+{
+  Double,
+  UnsignedChar,
+  UnsignedShort
+};
+const char* NameOf(Stored type)
+{
+  return type == Stored::Double ? "double" : (type == Stored::UnsignedChar ? "uchar" : "ushort");
+}
+void SetScalars(vtkImageData* image, std::vector<double> values, int components, Stored type)
+{
+  if (type == Stored::Double)
+  {
+    SetScalars<vtkDoubleArray>(image, values, components);
+    return;
+  }
+  for (double& v : values)
+  {
+    v = std::round(v);
+  }
+  type == Stored::UnsignedChar ? SetScalars<vtkUnsignedCharArray>(image, values, components)
+                               : SetScalars<vtkUnsignedShortArray>(image, values, components);
+}
 } // namespace
 
 int TestAdaptiveVolumeMapperComponents(int, char*[])
@@ -265,31 +297,37 @@ int TestAdaptiveVolumeMapperComponents(int, char*[])
   {
     alone.push_back(two[i]);
   }
-  SetScalars<vtkDoubleArray>(image, two, 2);
   mapper->SetIntegrationMethodToPiecewiseAdaptive();
   mapper->SetTolerance(1e-3);
-  scene.Window->Render();
-  vtkNew<vtkFloatArray> mixed;
-  mixed->DeepCopy(mapper->GetRenderedImage()->GetPointData()->GetScalars());
-  SetScalars<vtkDoubleArray>(image, alone, 1);
-  scene.Window->Render();
-  auto* single =
-    vtkFloatArray::SafeDownCast(mapper->GetRenderedImage()->GetPointData()->GetScalars());
-  double apart = 1.0;
-  if (single && single->GetNumberOfTuples() == Size * Size &&
-    mixed->GetNumberOfTuples() == Size * Size)
+  for (const Stored type : { Stored::Double, Stored::UnsignedChar, Stored::UnsignedShort })
   {
-    apart = 0.0;
-    for (vtkIdType i = 0; i < 4 * single->GetNumberOfTuples(); ++i)
+    SetScalars(image, two, 2, type);
+    scene.Window->Render();
+    vtkNew<vtkFloatArray> mixed;
+    mixed->DeepCopy(mapper->GetRenderedImage()->GetPointData()->GetScalars());
+    const bool drawn = errors.None("the mixture");
+    SetScalars(image, alone, 1, type);
+    scene.Window->Render();
+    auto* single =
+      vtkFloatArray::SafeDownCast(mapper->GetRenderedImage()->GetPointData()->GetScalars());
+    double apart = 1.0;
+    if (drawn && single && single->GetNumberOfTuples() == Size * Size &&
+      mixed->GetNumberOfTuples() == Size * Size)
     {
-      apart = std::max(apart, std::abs(double(single->GetValue(i)) - mixed->GetValue(i)));
+      apart = 0.0;
+      for (vtkIdType i = 0; i < 4 * single->GetNumberOfTuples(); ++i)
+      {
+        apart = std::max(apart, std::abs(double(single->GetValue(i)) - mixed->GetValue(i)));
+      }
     }
-  }
-  std::cout << "transparent second component against the first alone: " << apart << "\n";
-  if (!(apart <= 2e-3))
-  {
-    std::cerr << "FAIL a transparent second component changes the image by " << apart << "\n";
-    ++failures;
+    std::cout << "transparent second component against the first alone, " << NameOf(type) << ": "
+              << apart << "\n";
+    if (!(apart <= 2e-3))
+    {
+      std::cerr << "FAIL a transparent second component changes the image by " << apart << " ("
+                << NameOf(type) << ")\n";
+      ++failures;
+    }
   }
   property->SetScalarOpacity(1, secondOpacity);
   secondOpacity->UnRegister(nullptr);
@@ -340,22 +378,31 @@ int TestAdaptiveVolumeMapperComponents(int, char*[])
   {
     mapper->SetVectorMode(mode.VectorMode);
     mapper->SetVectorComponent(1);
-    SetScalars<vtkDoubleArray>(image, three, 3);
-    const std::vector<float> of = rendered();
-    SetScalars<vtkDoubleArray>(image, *mode.Alone, 1);
-    const std::vector<float> own = rendered();
-    float difference = 0.0f, largest = 0.0f;
-    for (std::size_t i = 0; i < of.size(); ++i)
+    // The norms are floats whatever the tuples: the double tuples only.
+    for (const Stored type : { Stored::Double, Stored::UnsignedChar, Stored::UnsignedShort })
     {
-      difference = std::max(difference, std::abs(of[i] - own[i]));
-      largest = std::max(largest, own[i]);
-    }
-    std::cout << mode.Name << ": " << difference << " from its own image (largest value " << largest
-              << ")\n";
-    if (!(difference <= 1e-6f) || largest < 0.2f)
-    {
-      std::cerr << "FAIL vector mode " << mode.Name << ": " << difference << " apart\n";
-      ++failures;
+      if (mode.VectorMode == vtkAdaptiveVolumeMapper::MAGNITUDE && type != Stored::Double)
+      {
+        continue;
+      }
+      SetScalars(image, three, 3, type);
+      const std::vector<float> of = rendered();
+      SetScalars(image, *mode.Alone, 1, type);
+      const std::vector<float> own = rendered();
+      float difference = 0.0f, largest = 0.0f;
+      for (std::size_t i = 0; i < of.size(); ++i)
+      {
+        difference = std::max(difference, std::abs(of[i] - own[i]));
+        largest = std::max(largest, own[i]);
+      }
+      std::cout << mode.Name << ", " << NameOf(type) << ": " << difference
+                << " from its own image (largest value " << largest << ")\n";
+      if (!(difference <= 1e-6f) || largest < 0.2f)
+      {
+        std::cerr << "FAIL vector mode " << mode.Name << ", " << NameOf(type) << ": " << difference
+                  << " apart\n";
+        ++failures;
+      }
     }
   }
   mapper->SetVectorMode(vtkAdaptiveVolumeMapper::DISABLED);

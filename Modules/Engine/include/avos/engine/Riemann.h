@@ -51,7 +51,11 @@ namespace engine
 // the kernels need no copy and no padding (ScalarWords-inl.h). 8- and 16-bit
 // scalars are read as they are (one 32-bit gather fetches a corner and its x
 // neighbour: half the gathers of float, and a quarter or half the memory).
-// Any other type is converted to float by the caller.
+// Any other type is converted to float by the caller. One component of
+// interleaved tuples is read in place too: Data at that component of the
+// first tuple, Stride scalars from a point's to the next, Trailing scalars
+// in the array after the last point's (the last tuple's later components;
+// the kernels read no further).
 struct Volume
 {
   enum class Type
@@ -66,6 +70,8 @@ struct Volume
   const void* Data = nullptr;
   Type Scalars = Type::Float32;
   int Dimensions[3] = { 0, 0, 0 };
+  int Stride = 1;
+  int Trailing = 0;
 };
 
 // Whether the piecewise method's cell kernels read scalars of this type:
