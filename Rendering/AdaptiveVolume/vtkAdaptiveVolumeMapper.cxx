@@ -204,9 +204,11 @@ public:
   const avos::engine::Volume* CellScalars = nullptr;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
+  bool EngineTableOfMixture = false; // built from a mixture's single medium
   bool PieceLanes = false;
   avos::engine::PiecewiseTable PieceTable;
   vtkTimeStamp PieceTableTime;
+  bool PieceTableOfMixture = false;
 
   // SetUpFrame: the frame's rays and what they depend on; the image sample
   // distance and the viewport's depth buffer.
@@ -742,14 +744,13 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   // or 16-bit unsigned (the only ones the cells' kernel reads). The kernels
   // read the trilinear interpolant of one component, in place: the scalars'
   // only one, the vector mode's, or the only one of a mixture that shows
-  // (its rays are then a single component's, PiecewiseMixture::GetSingle).
+  // (the engine casts that mixture as the component alone).
   const bool mixture = internals.Components > 1;
-  const int shown = mixture && internals.Piecewise ? internals.MixturePieces.GetSingleComponent()
-                                                   : std::max(internals.Component, 0);
-  const bool readable =
-    internals.View.Field == avos::engine::ScalarField::Trilinear && (!mixture || shown >= 0);
+  const an::MixtureTransferFunction<double>& medium = internals.Mixture.Mixture;
+  const int shown = mixture ? medium.GetSingleComponent() : std::max(internals.Component, 0);
+  const bool readable = internals.View.Field == avos::engine::ScalarField::Trilinear && shown >= 0;
   const bool riemann = this->IntegrationMethod == RIEMANN && !internals.Shade &&
-    !internals.UsesGradientOpacity && readable && !mixture;
+    !internals.UsesGradientOpacity && readable;
   const bool cells = this->IntegrationMethod == PIECEWISE_ADAPTIVE && readable &&
     avos::engine::ReadsCells(avos::EngineVolume::EngineType(scalars->GetDataType()));
   const avos::engine::Volume* kernelScalars = riemann || cells
@@ -758,28 +759,36 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
   internals.RiemannScalars = riemann ? kernelScalars : nullptr;
   internals.CellScalars = cells ? kernelScalars : nullptr;
   if (internals.RiemannScalars &&
-    internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
+    (internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
+      internals.EngineTableOfMixture != mixture))
   {
-    const std::string error = internals.EngineTable.Build(internals.TF);
+    const std::string error =
+      internals.EngineTable.Build(mixture ? *medium.GetSingle() : internals.TF);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       return false;
     }
+    internals.EngineTableOfMixture = mixture;
     internals.EngineTableTime.Modified();
   }
   // The pieces' table for the piecewise method's ray-per-lane integrator,
   // where it can read the scalars.
-  internals.PieceLanes = internals.CellScalars && !mixture &&
-    avos::engine::ValidatePiecewiseRays(*internals.CellScalars, internals.Pieces).empty();
-  if (internals.PieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
+  const an::PiecewiseTransferFunction<double>* pieces =
+    mixture ? internals.MixturePieces.GetSingle() : &internals.Pieces;
+  internals.PieceLanes = internals.CellScalars && pieces &&
+    avos::engine::ValidatePiecewiseRays(*internals.CellScalars, *pieces).empty();
+  if (internals.PieceLanes &&
+    (internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime() ||
+      internals.PieceTableOfMixture != mixture))
   {
-    const std::string error = internals.PieceTable.Build(internals.Pieces);
+    const std::string error = internals.PieceTable.Build(*pieces);
     if (!error.empty())
     {
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       return false;
     }
+    internals.PieceTableOfMixture = mixture;
     internals.PieceTableTime.Modified();
   }
   return true;

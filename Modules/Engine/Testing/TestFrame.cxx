@@ -559,14 +559,15 @@ TEST(Frame, MixturesMatchTheCore)
   mixture.SetIndependent(2, functions, weights);
   an::PiecewiseMixture<double> pieces;
   ASSERT_EQ(pieces.Build(mixture, an::PiecewiseRelativeError(1e-3)), "");
-  // The second of weight 0: the first alone shows, a single component's
-  // rays (in the kernels' lanes for the frame).
+  // The second of weight 0: the first alone shows, and the frame is cast as
+  // the first component's (its sums, its pieces in the kernels' lanes).
   const double soloWeights[2] = { 0.8, 0.0 };
   an::MixtureTransferFunction<double> solo;
   solo.SetIndependent(2, functions, soloWeights);
   an::PiecewiseMixture<double> soloPieces;
   ASSERT_EQ(soloPieces.Build(solo, an::PiecewiseRelativeError(1e-3)), "");
   ASSERT_NE(soloPieces.GetSingle(), nullptr);
+  ASSERT_EQ(solo.GetSingleComponent(), 0);
   an::EmptySpaceMap<double> map;
   map.SetDimensions(scene.Case.Dimensions);
   map.ComputeRanges(bytes.data(), an::EmptySpaceMap<double>::Samples::Points, 2);
@@ -596,6 +597,8 @@ TEST(Frame, MixturesMatchTheCore)
          Run{ ae::Integration::Piecewise, true, ae::ScalarField::Trilinear },
          Run{ ae::Integration::Piecewise, false, ae::ScalarField::Nearest },
          Run{ ae::Integration::Piecewise, false, ae::ScalarField::Trilinear, true },
+         Run{ ae::Integration::Riemann, false, ae::ScalarField::Trilinear, true },
+         Run{ ae::Integration::Reference, false, ae::ScalarField::Trilinear, true },
          Run{ ae::Integration::Riemann, false, ae::ScalarField::Trilinear },
          Run{ ae::Integration::AdaptiveCoupled, false, ae::ScalarField::Trilinear },
          Run{ ae::Integration::Reference, false, ae::ScalarField::Trilinear } })
@@ -625,16 +628,16 @@ TEST(Frame, MixturesMatchTheCore)
       switch (run.Kind)
       {
         case ae::Integration::Riemann:
-          return an::IntegrateRiemann(field, mixture, D, 0.5, an::RiemannForm::Exponential,
+          return an::IntegrateRiemann(field, *method.Mixture, D, 0.5, an::RiemannForm::Exponential,
             segments.data(), segments.size(), 0.0)
             .RGBA;
         case ae::Integration::AdaptiveCoupled:
           return an::IntegrateAdaptive(
-            field, mixture, segments.data(), segments.size(), method.Adaptive)
+            field, *method.Mixture, segments.data(), segments.size(), method.Adaptive)
             .RGBA;
         case ae::Integration::Reference:
-          return an::IntegratePiecewiseMixture(v, wo, wd, segments.data(), segments.size(), pieces,
-            an::PiecewiseReferenceTolerance<double>())
+          return an::IntegratePiecewiseMixture(v, wo, wd, segments.data(), segments.size(),
+            runPieces, an::PiecewiseReferenceTolerance<double>())
             .RGBA;
         default:
           return an::IntegratePiecewiseMixture(

@@ -60,6 +60,59 @@ struct IsMixture<an::ComponentVolumes<double, VolumeT>> : std::true_type
 {
 };
 
+// Bytes per scalar of a type.
+int BytesOf(ScalarType type)
+{
+  switch (type)
+  {
+    case ScalarType::Int8:
+    case ScalarType::UInt8:
+      return 1;
+    case ScalarType::Int16:
+    case ScalarType::UInt16:
+      return 2;
+    case ScalarType::Int32:
+    case ScalarType::UInt32:
+    case ScalarType::Float32:
+      return 4;
+    default:
+      return 8;
+  }
+}
+
+// The frame as it is cast: a mixture of which one component alone shows
+// (MixtureTransferFunction::GetSingle, PiecewiseMixture::GetSingle) is
+// that component's medium, so its frame is a single component's, the
+// component read in place (it takes the single component's kernels and
+// lanes); any other frame as it is.
+struct Resolved
+{
+  Scalars TheScalars;
+  FrameMethod Method;
+
+  Resolved(const Scalars& scalars, const FrameMethod& method)
+    : TheScalars(scalars)
+    , Method(method)
+  {
+    const int k = scalars.Components > 1 && method.Mixture && scalars.Data
+      ? method.Mixture->GetSingleComponent()
+      : -1;
+    const bool piecewise = method.MixturePieces != nullptr;
+    if (k < 0 || (piecewise && method.MixturePieces->GetSingleComponent() != k) ||
+      method.Mixture->GetNumberOfComponents() != scalars.Components)
+    {
+      return; // (Validate says what is wrong, if anything)
+    }
+    this->TheScalars.Data = static_cast<const char*>(scalars.Data) + k * BytesOf(scalars.Type);
+    this->TheScalars.Stride = scalars.GetStride();
+    this->TheScalars.Components = 1;
+    this->Method.TF = method.Mixture->GetSingle();
+    this->Method.Pieces = piecewise ? method.MixturePieces->GetSingle() : nullptr;
+    this->Method.Mixture = nullptr;
+    this->Method.MixturePieces = nullptr;
+  }
+};
+
 // Calls f(volume) with the field of the scalars: the trilinear interpolant,
 // a field constant per cell, or cell scalars between their centres
 // (avos/numerics/Volume.h); with several components, each component's field
@@ -431,14 +484,6 @@ void Composite(const an::ComponentVolumes<double, VolumeT>& volume, const FrameM
         : an::IntegrateReference(field, medium, segments.data(), segments.size());
       return;
     case Integration::Piecewise:
-      if (const an::PiecewiseTransferFunction<double>* single = method.MixturePieces->GetSingle())
-      {
-        // One component shows: a single component's rays, in the kernels' lanes.
-        result = an::IntegratePiecewise(volume[method.MixturePieces->GetSingleComponent()], origin,
-          direction, segments.data(), segments.size(), *single, method.Adaptive.Tolerance, true,
-          steps, method.Kernels);
-        return;
-      }
       result = an::IntegratePiecewiseMixture(volume, origin, direction, segments.data(),
         segments.size(), *method.MixturePieces, method.Adaptive.Tolerance, true, steps);
       return;
@@ -815,10 +860,10 @@ std::string ValidateMixture(const Scalars& scalars, const FrameMethod& method)
   {
     return "scalars of several components are not shaded, nor scaled by gradient opacity";
   }
-  if (method.EngineVolume || method.PieceTable ||
-    (method.Kernels.Scalars && !(method.MixturePieces && method.MixturePieces->GetSingle())))
+  if (method.EngineVolume || method.Kernels.Scalars || method.PieceTable)
   {
-    return "the engine's kernels read a mixture only where one component alone shows";
+    return "the engine's kernels read a mixture only where one component alone shows (as that "
+           "component)";
   }
   return std::string();
 }
@@ -852,8 +897,11 @@ bool WalksSegments(const FrameMethod& method)
   return method.Map && method.Mode == Blend::Composite;
 }
 
-std::string Validate(const Scalars& scalars, const FrameMethod& method)
+std::string Validate(const Scalars& given, const FrameMethod& givenMethod)
 {
+  const Resolved resolved(given, givenMethod);
+  const Scalars& scalars = resolved.TheScalars;
+  const FrameMethod& method = resolved.Method;
   if (!scalars.Data)
   {
     return "no scalars";
@@ -929,9 +977,10 @@ void IntegrateRay(const Scalars& scalars, const an::ClipRegion<double>& clip,
   const FrameMethod& method, const glm::dvec3& origin, const glm::dvec3& direction, double D,
   RayScratch& scratch, an::RayResult<double>& result, std::vector<an::StepRecord<double>>* steps)
 {
-  DispatchVolume(scalars,
+  const Resolved resolved(scalars, method);
+  DispatchVolume(resolved.TheScalars,
     [&](const auto& volume)
-    { Integrate(volume, clip, method, origin, direction, D, scratch, result, steps); });
+    { Integrate(volume, clip, resolved.Method, origin, direction, D, scratch, result, steps); });
 }
 
 FrameCaster::FrameCaster() = default;
@@ -969,10 +1018,12 @@ FrameStatistics FrameCaster::Cast(const Frame& frame, const Scalars& scalars,
   {
     scratch->Statistics = FrameStatistics();
   }
-  DispatchVolume(scalars,
+  const Resolved resolved(scalars, method);
+  DispatchVolume(resolved.TheScalars,
     [&](const auto& volume)
     {
-      const TileCaster<std::decay_t<decltype(volume)>> caster(frame, volume, method, image);
+      const TileCaster<std::decay_t<decltype(volume)>> caster(
+        frame, volume, resolved.Method, image);
       loop(Tiles(frame),
         [&](std::int64_t begin, std::int64_t end)
         {

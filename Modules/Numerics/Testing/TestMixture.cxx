@@ -251,7 +251,9 @@ TEST(Mixture, TransparentSecondComponentGivesTheFirstsImage)
 // A mixture in which one component alone shows is that component's medium
 // with its extinction times its weight: bitwise the single component's
 // rays with the weight in its knots (a weight of 2 scales them exactly), in
-// both opacity models; with both showing, no single medium.
+// both opacity models, and the sampled methods' medium (the function with
+// the weight folded in) sums as the mixture does; with both showing, no
+// single medium.
 TEST(Mixture, OneVisibleComponentIsASingleComponent)
 {
   for (const an::OpacityModel model : { an::OpacityModel::Extinction, an::OpacityModel::Alpha })
@@ -296,10 +298,24 @@ TEST(Mixture, OneVisibleComponentIsASingleComponent)
           an::IntegratePiecewise(volumes[shown], ray.Origin, ray.Direction, &whole, 1, single, eps);
         ASSERT_EQ(r.Error, "");
         EXPECT_EQ(r.RGBA, alone.RGBA) << "ray " << i;
+        // The sampled methods' medium: the function with the weight in it,
+        // the mixture's sum to rounding.
+        const an::MixtureTransferFunction<double> medium = both.Mixture();
+        ASSERT_NE(medium.GetSingle(), nullptr);
+        EXPECT_EQ(medium.GetSingleComponent(), shown);
+        const an::RayField<double, Volumes> field{ volumes, ray.Origin, ray.Direction };
+        const an::RayField<double, Volume> one{ volumes[shown], ray.Origin, ray.Direction };
+        const glm::dvec4 mixed =
+          an::IntegrateRiemann(field, medium, ray.Length, 0.5, an::RiemannForm::Exponential).RGBA;
+        const glm::dvec4 single = an::IntegrateRiemann(
+          one, *medium.GetSingle(), ray.Length, 0.5, an::RiemannForm::Exponential)
+                                    .RGBA;
+        ExpectWithin(single, mixed, 1e-12);
       }
       both.TF[1 - shown] = visible;
       ASSERT_EQ(pieces.Build(both.Mixture(), an::PiecewiseRelativeError(eps)), "");
       EXPECT_EQ(pieces.GetSingle(), nullptr);
+      EXPECT_EQ(both.Mixture().GetSingle(), nullptr);
     }
   }
 }

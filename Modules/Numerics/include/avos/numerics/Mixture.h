@@ -102,12 +102,41 @@ public:
   {
     this->Mix = ComponentMix::Independent;
     this->Count = count;
+    this->SingleComponent = -1;
+    int shown = 0;
     for (int k = 0; k < MaximumComponents; ++k)
     {
       this->Functions[k] = k < count ? functions[k] : nullptr;
       this->Weights[k] = k < count ? weights[k] : Real(0);
+      if (k < count && functions[k] && this->Weights[k] > Real(0) && !functions[k]->IsTransparent())
+      {
+        this->SingleComponent = shown++ == 0 ? k : -1;
+      }
+    }
+    if (this->SingleComponent >= 0 && this->Weights[this->SingleComponent] != Real(1) &&
+      std::isfinite(this->Weights[this->SingleComponent]))
+    {
+      this->Scaled = *this->Functions[this->SingleComponent];
+      this->Scaled.ScaleExtinction(this->Weights[this->SingleComponent]);
+      this->Scaled.Finalize();
     }
   }
+
+  // The medium when one component alone shows (independent components, the
+  // others of weight 0 or transparent everywhere): that component's
+  // function, its weight in its extinction (TransferFunction::
+  // ScaleExtinction); null otherwise. Its rays are a single component's.
+  const TransferFunction<Real>* GetSingle() const
+  {
+    if (this->SingleComponent < 0)
+    {
+      return nullptr;
+    }
+    return this->Weights[this->SingleComponent] == Real(1) ? this->Functions[this->SingleComponent]
+                                                           : &this->Scaled;
+  }
+  // The component GetSingle's medium reads (-1: none).
+  int GetSingleComponent() const { return this->SingleComponent; }
 
   // Two components: the colour of `tf` at s_0, its opacity at s_1.
   void SetColourOpacity(const TransferFunction<Real>& tf) { this->SetDependent(2, tf, Real(0)); }
@@ -258,6 +287,7 @@ public:
 private:
   void SetDependent(int count, const TransferFunction<Real>& tf, Real scale)
   {
+    this->SingleComponent = -1;
     this->Mix = count == 2 ? ComponentMix::ColourOpacity : ComponentMix::RGBOpacity;
     this->Count = count;
     this->Functions = { { &tf, nullptr, nullptr, nullptr } };
@@ -270,6 +300,8 @@ private:
   std::array<const TransferFunction<Real>*, MaximumComponents> Functions{};
   std::array<Real, MaximumComponents> Weights{};
   Real Scale = Real(0);
+  int SingleComponent = -1;
+  TransferFunction<Real> Scaled; // GetSingle's where the weight is not 1
 };
 
 // The adaptive rule's error scale (SimpsonErrorScale) of a mixture: the

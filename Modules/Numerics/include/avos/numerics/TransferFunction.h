@@ -305,6 +305,32 @@ public:
                            : std::numeric_limits<Real>::infinity();
   }
 
+  // True when the opacity is 0 everywhere (every opacity knot is).
+  bool IsTransparent() const
+  {
+    return std::all_of(
+      this->Opacities.begin(), this->Opacities.end(), [](Real a) { return a == Real(0); });
+  }
+
+  // Multiplies the extinction by `weight` > 0 everywhere: the extinction
+  // model's knots, or the alpha model's unit distance divided by it (tau =
+  // -ln(1 - alpha) / UnitDistance). Finalize again before use.
+  void ScaleExtinction(Real weight)
+  {
+    if (this->Model == OpacityModel::Extinction)
+    {
+      for (Real& tau : this->Opacities)
+      {
+        tau *= weight;
+      }
+    }
+    else
+    {
+      this->UnitDistance /= weight;
+    }
+    this->Pieces.clear();
+  }
+
   // Largest colour component: bounds what the rest of a ray can add.
   Real GetMaximumColor() const
   {
