@@ -133,10 +133,10 @@ struct FrameMethod
   const TransferTable* EngineTable = nullptr;
   // The piecewise method's kernels (their cells read 8- and 16-bit scalars),
   // and its pieces' table for the ray-per-lane integrator (null: a ray at a
-  // time). The kernels' volumes hold the field the rays integrate: the
-  // scalars' one component (of interleaved tuples too), or for a mixture
-  // the component PiecewiseMixture::GetSingleComponent reads (the only
-  // mixtures the kernels take; the Riemann kernel takes none).
+  // time). The kernels' volumes (these and EngineVolume) hold the field the
+  // rays integrate: the scalars' one component (of interleaved tuples too),
+  // or that of a mixture of which it alone shows (GetSingleComponent: the
+  // frame is cast as that component alone; no other mixture takes them).
   PieceKernels Kernels;
   const PiecewiseTable* PieceTable = nullptr;
   // Gradient shading of the emission (null: none), with the grid-to-world

@@ -104,17 +104,21 @@ public:
     this->Count = count;
     this->SingleComponent = -1;
     int shown = 0;
+    bool valid = true; // (else Validate says why)
     for (int k = 0; k < MaximumComponents; ++k)
     {
-      this->Functions[k] = k < count ? functions[k] : nullptr;
-      this->Weights[k] = k < count ? weights[k] : Real(0);
-      if (k < count && functions[k] && this->Weights[k] > Real(0) && !functions[k]->IsTransparent())
+      const bool used = k < count;
+      this->Functions[k] = used ? functions[k] : nullptr;
+      this->Weights[k] = used ? weights[k] : Real(0);
+      const Real w = this->Weights[k];
+      valid = valid && (!used || (functions[k] && w >= Real(0) && std::isfinite(w)));
+      if (valid && used && w > Real(0) && !functions[k]->IsTransparent())
       {
         this->SingleComponent = shown++ == 0 ? k : -1;
       }
     }
-    if (this->SingleComponent >= 0 && this->Weights[this->SingleComponent] != Real(1) &&
-      std::isfinite(this->Weights[this->SingleComponent]))
+    this->SingleComponent = valid ? this->SingleComponent : -1;
+    if (this->SingleComponent >= 0 && this->Weights[this->SingleComponent] != Real(1))
     {
       this->Scaled = *this->Functions[this->SingleComponent];
       this->Scaled.ScaleExtinction(this->Weights[this->SingleComponent]);
