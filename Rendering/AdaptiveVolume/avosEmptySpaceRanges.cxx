@@ -47,4 +47,18 @@ bool EmptySpaceRanges::Update(
   this->Time.Modified();
   return true;
 }
+
+std::string EmptySpaceRanges::NaNNotice()
+{
+  if (this->NaNCount == 0 || this->NaNReported == this->Time.GetMTime())
+  {
+    return std::string();
+  }
+  this->NaNReported = this->Time.GetMTime();
+  return "The input has " + std::to_string(this->NaNCount) +
+    (this->Sampled != Samples::Points
+        ? " NaN cell scalars: those cells are rendered transparent."
+        : " NaN scalars: the cells they touch are rendered transparent (with nearest "
+          "interpolation, the regions nearest to them).");
+}
 }

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 
 class vtkDataArray;
 
@@ -35,6 +36,10 @@ public:
   std::size_t GetNaNCount() const { return this->NaNCount; }
   /// When the ranges were last rebuilt.
   vtkMTimeType GetTime() const { return this->Time.GetMTime(); }
+  /// What the last rebuild's NaN scalars do to the image (every cell with
+  /// a NaN corner is empty), said once: the notice the first time it is
+  /// asked after a rebuild that met some, else empty.
+  std::string NaNNotice();
 
 private:
   avos::numerics::EmptySpaceMap<double> Map;
@@ -43,6 +48,7 @@ private:
   std::array<int, 3> Dimensions{ { 0, 0, 0 } };
   Samples Sampled = Samples::Points;
   int Component = -1;
+  vtkMTimeType NaNReported = 0; // the rebuild whose NaN notice was said
   std::size_t NaNCount = 0;
   vtkTimeStamp Time;
 };

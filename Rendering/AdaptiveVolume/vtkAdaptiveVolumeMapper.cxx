@@ -157,7 +157,6 @@ public:
   // ranges (rebuilt when the scalars or their field change), the data's
   // range, the engine's view of the scalars (in place).
   avos::EmptySpaceRanges Ranges;
-  vtkMTimeType NaNReported = 0; // the ranges whose NaN count was reported
   double DataRange[2] = { 0.0, 1.0 };
   avos::engine::Scalars View;
 
@@ -204,11 +203,9 @@ public:
   const avos::engine::Volume* CellScalars = nullptr;
   avos::engine::TransferTable EngineTable;
   vtkTimeStamp EngineTableTime;
-  bool EngineTableOfMixture = false; // built from a mixture's single medium
   bool PieceLanes = false;
   avos::engine::PiecewiseTable PieceTable;
   vtkTimeStamp PieceTableTime;
-  bool PieceTableOfMixture = false;
 
   // SetUpFrame: the frame's rays and what they depend on; the image sample
   // distance and the viewport's depth buffer.
@@ -499,15 +496,11 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
   // NaN: the field is undefined in every cell with a NaN corner (a NaN
   // cell, a NaN point's nearest region), and each method takes it as empty
   // (transparent). Said once per change of the scalars.
-  if (internals.Ranges.GetNaNCount() > 0 && internals.NaNReported != internals.Ranges.GetTime())
+  const std::string nans = internals.Ranges.NaNNotice();
+  if (!nans.empty())
   {
-    vtkWarningMacro(<< "The input has " << internals.Ranges.GetNaNCount()
-                    << (internals.CellData
-                           ? " NaN cell scalars: those cells are rendered transparent."
-                           : " NaN scalars: the cells they touch are rendered transparent (with "
-                             "nearest interpolation, the regions nearest to them)."));
+    vtkWarningMacro(<< nans);
   }
-  internals.NaNReported = internals.Ranges.GetTime();
   internals.View.Field = field;
   // Bounds of the trilinear field (every component's), and the projections'
   // normalisation.
@@ -758,9 +751,10 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
     : nullptr;
   internals.RiemannScalars = riemann ? kernelScalars : nullptr;
   internals.CellScalars = cells ? kernelScalars : nullptr;
+  // (A change of the scalars' components reclassifies: ClassifyTime, then
+  // PiecesTime, follow the mixture's single medium.)
   if (internals.RiemannScalars &&
-    (internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime() ||
-      internals.EngineTableOfMixture != mixture))
+    internals.EngineTableTime.GetMTime() < internals.ClassifyTime.GetMTime())
   {
     const std::string error =
       internals.EngineTable.Build(mixture ? *medium.GetSingle() : internals.TF);
@@ -769,7 +763,6 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       return false;
     }
-    internals.EngineTableOfMixture = mixture;
     internals.EngineTableTime.Modified();
   }
   // The pieces' table for the piecewise method's ray-per-lane integrator,
@@ -778,9 +771,7 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
     mixture ? internals.MixturePieces.GetSingle() : &internals.Pieces;
   internals.PieceLanes = internals.CellScalars && pieces &&
     avos::engine::ValidatePiecewiseRays(*internals.CellScalars, *pieces).empty();
-  if (internals.PieceLanes &&
-    (internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime() ||
-      internals.PieceTableOfMixture != mixture))
+  if (internals.PieceLanes && internals.PieceTableTime.GetMTime() < internals.PiecesTime.GetMTime())
   {
     const std::string error = internals.PieceTable.Build(*pieces);
     if (!error.empty())
@@ -788,7 +779,6 @@ bool vtkAdaptiveVolumeMapper::UpdateKernelTables()
       vtkErrorMacro(<< "Unusable transfer function: " << error << ".");
       return false;
     }
-    internals.PieceTableOfMixture = mixture;
     internals.PieceTableTime.Modified();
   }
   return true;

@@ -217,7 +217,6 @@ public:
   bool BlocksHoldMap = false; // else a 1^3 placeholder (skipping off)
   vtkMTimeType BlocksRangesTime = 0;
   vtkTimeStamp BlocksTime;
-  vtkMTimeType NaNReported = 0; // the ranges whose NaN count was said
 };
 
 //------------------------------------------------------------------------------
@@ -971,12 +970,11 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateRanges()
   // NaN, as on the CPU: every cell with a NaN corner is empty (the shader's
   // avos_corners; a sample there is NaN, transparent). Said once per change
   // of the scalars.
-  if (internals.Ranges.GetNaNCount() > 0 && internals.NaNReported != internals.Ranges.GetTime())
+  const std::string nans = internals.Ranges.NaNNotice();
+  if (!nans.empty())
   {
-    vtkWarningMacro(<< "The input has " << internals.Ranges.GetNaNCount()
-                    << " NaN scalars: the cells they touch are rendered transparent.");
+    vtkWarningMacro(<< nans);
   }
-  internals.NaNReported = internals.Ranges.GetTime();
 }
 
 //------------------------------------------------------------------------------

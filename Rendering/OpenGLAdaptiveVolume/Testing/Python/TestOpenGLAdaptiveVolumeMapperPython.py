@@ -192,7 +192,8 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         Riemann sum as the CPU's within riemannBound."""
         eps = 1e-3
         return (
-            ("piecewise", lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
+            ("piecewise",
+             lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(1e-5)),
              lambda m: (m.SetIntegrationMethodToPiecewiseAdaptive(), m.SetTolerance(eps)),
              eps - 1e-5),
             ("maximum", lambda m: m.SetBlendModeToMaximumIntensity(),
