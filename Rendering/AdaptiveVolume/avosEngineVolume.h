@@ -13,6 +13,7 @@
 
 #include "avos/engine/Frame.h"
 #include "avos/engine/Riemann.h"
+#include "avos/numerics/EmptySpace.h"
 
 #include <array>
 #include <vector>
@@ -27,6 +28,26 @@ namespace avos
 /// read (bit, string and other non-numeric arrays).
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ScalarsInPlace(
   vtkDataArray* scalars, const int dimensions[3], avos::engine::Scalars& view, int component = -1);
+
+/// The field the scalars define, as VTK's GPU mapper reads them: point
+/// scalars trilinear (linear interpolation) or constant on each point's
+/// nearest region (nearest); cell scalars constant on each cell (nearest) or
+/// trilinear between the cells' centres (linear).
+inline avos::engine::ScalarField FieldOf(bool cellScalars, bool nearest)
+{
+  using Field = avos::engine::ScalarField;
+  return cellScalars ? (nearest ? Field::Cells : Field::CellCentres)
+                     : (nearest ? Field::Nearest : Field::Trilinear);
+}
+
+/// What the empty-space blocks of `field` read: its cells' values.
+inline avos::numerics::EmptySpaceMap<double>::Samples SamplesOf(avos::engine::ScalarField field)
+{
+  using Samples = avos::numerics::EmptySpaceMap<double>::Samples;
+  return field == avos::engine::ScalarField::Cells    ? Samples::Cells
+    : field == avos::engine::ScalarField::CellCentres ? Samples::CellCentres
+                                                      : Samples::Points;
+}
 
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT EngineVolume
 {

@@ -474,18 +474,11 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
 {
   vtkInternals& internals = *this->Internals;
   vtkDataArray* scalars = internals.Scalars;
-  // The field, as VTK's GPU mapper reads the scalars: point scalars
-  // trilinear, or constant on each point's nearest region; cell scalars
-  // constant on each cell, or trilinear between the cells' centres.
-  using Field = avos::engine::ScalarField;
-  using Samples = avos::EmptySpaceRanges::Samples;
+  // The field, as VTK's GPU mapper reads the scalars; the map's blocks read
+  // what its cells read.
   const bool nearest = vol->GetProperty()->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
-  const Field field = internals.CellData ? (nearest ? Field::Cells : Field::CellCentres)
-                                         : (nearest ? Field::Nearest : Field::Trilinear);
-  // The map's blocks read what the field's cells read.
-  const Samples samples = field == Field::Cells ? Samples::Cells
-    : field == Field::CellCentres               ? Samples::CellCentres
-                                                : Samples::Points;
+  const avos::engine::ScalarField field = avos::FieldOf(internals.CellData, nearest);
+  const avos::EmptySpaceRanges::Samples samples = avos::SamplesOf(field);
   // The empty-space ranges, when the scalars or their field changed.
   if (!internals.Ranges.Update(scalars, internals.Dimensions, samples, internals.Component) ||
     !avos::ScalarsInPlace(scalars, internals.Dimensions, internals.View, internals.Component))

@@ -9,6 +9,7 @@
 #ifndef avosVolumeRay_h
 #define avosVolumeRay_h
 
+#include "vtkAbstractMapper.h"
 #include "vtkAdaptiveVolumeMapper.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
@@ -32,6 +33,7 @@
 #include "avos/engine/PieceKernels.h"
 #include "avos/numerics/Clipping.h"
 #include "avos/numerics/EmptySpace.h"
+#include "avos/numerics/Mixture.h"
 #include "avos/numerics/PiecewiseIntegrator.h"
 #include "avos/numerics/RayIntegrators.h"
 
@@ -63,19 +65,39 @@ enum class VolumeSide
   InFront     // between the vertex and the observer
 };
 
-// What every ray of one execution shares: the volume's grid, the transfer
-// function, the integration method.
+// The volume's scalars as VTK's volume mappers take them by default
+// (SCALAR_MODE_DEFAULT): its point scalars, else its cell scalars
+// (`cellScalars` set); null for none.
+inline vtkDataArray* VolumeScalars(vtkImageData* volume, bool& cellScalars)
+{
+  int cellFlag = 0;
+  vtkDataArray* scalars = volume ? vtkAbstractMapper::GetScalars(volume, VTK_SCALAR_MODE_DEFAULT,
+                                     VTK_GET_ARRAY_BY_ID, 0, nullptr, cellFlag)
+                                 : nullptr;
+  cellScalars = cellFlag != 0;
+  return scalars;
+}
+
+// What every ray of one execution shares: the volume's grid, its field and
+// transfer function, the integration method. The volume is read as
+// vtkAdaptiveVolumeMapper reads it: point or cell scalars, linear or nearest
+// interpolation (avos::FieldOf), 1 to 4 components (several: their mixture,
+// avos/numerics/Mixture.h, unshaded and without gradient opacity).
 struct VolumeRaySetup
 {
   int Dimensions[3] = { 0, 0, 0 };
   double WorldToGrid[16];
   double Voxel = 1.0; // world length of one voxel unit (the shortest grid step)
-  avos::numerics::TransferFunction<double> TF;
+  avos::engine::ScalarField Field = avos::engine::ScalarField::Trilinear;
+  int Components = 1;
+  avos::numerics::TransferFunction<double> TF;              // one component
   avos::numerics::PiecewiseTransferFunction<double> Pieces; // for RayIntegration::Piecewise
+  avos::MixtureFunctions Mixture;                           // several components
+  avos::numerics::PiecewiseMixture<double> MixturePieces;   // their pieces
   // For RayIntegration::Levoy: the vectorised Riemann kernel's volume
-  // (EngineVolume; null: the scalar sum) and transfer table. For
-  // RayIntegration::Piecewise: the same volume for the cells' kernel (null:
-  // the scalar walk; see ReadsEngineScalars).
+  // (EngineVolume: ShownComponent's; null: the scalar sum) and transfer
+  // table. For RayIntegration::Piecewise: the same volume for the cells'
+  // kernel (null: the scalar walk; see ReadsEngineScalars).
   const avos::engine::Volume* Engine = nullptr;
   avos::engine::TransferTable Table;
   RayIntegration Method = RayIntegration::Levoy;
@@ -109,6 +131,18 @@ struct VolumeRaySetup
   VolumeRaySetup(const VolumeRaySetup&) = delete;
   VolumeRaySetup& operator=(const VolumeRaySetup&) = delete;
 
+  // The component whose transfer function alone makes the medium (the
+  // scalars' only one, or that of a mixture of which it alone shows), or -1.
+  int ShownComponent() const
+  {
+    return this->Components > 1 ? this->Mixture.Mixture.GetSingleComponent() : 0;
+  }
+  // That component's medium (null: none).
+  const avos::numerics::TransferFunction<double>* SingleMedium() const
+  {
+    return this->Components > 1 ? this->Mixture.Mixture.GetSingle() : &this->TF;
+  }
+
   // Empty, or why the volume or the property cannot be used. `planes`: the
   // clipping planes (world coordinates) that cut every ray; null: none.
   // `lights`: the renderer whose lights shade the rays when the property
@@ -117,13 +151,18 @@ struct VolumeRaySetup
     RayIntegration method, double sampleDistance, double tolerance,
     vtkPlaneCollection* planes = nullptr, vtkRenderer* lights = nullptr)
   {
-    this->Scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
-    const std::string unusable = ValidateVolumeInput(volume, this->Scalars, false);
+    bool cellScalars = false;
+    this->Scalars = VolumeScalars(volume, cellScalars);
+    const std::string unusable =
+      ValidateVolumeInput(volume, this->Scalars, cellScalars, avos::numerics::MaximumComponents);
     if (!unusable.empty())
     {
       return unusable;
     }
     volume->GetDimensions(this->Dimensions);
+    this->Components = this->Scalars->GetNumberOfComponents();
+    this->Field = FieldOf(
+      cellScalars, property && property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION);
     // The ray caster's step range bounds the work of one ray.
     const double smallest = vtkAdaptiveVolumeMapper::GetSmallestStep();
     const double largest = vtkAdaptiveVolumeMapper::GetLargestStep();
@@ -153,7 +192,7 @@ struct VolumeRaySetup
       return "the volume's spacing must be non-zero and finite";
     }
     const std::string unsupported =
-      UnsupportedPropertySettings(property, lights != nullptr, false, 1, true);
+      UnsupportedPropertySettings(property, lights != nullptr, true, this->Components, true);
     if (!unsupported.empty())
     {
       return unsupported;
@@ -185,8 +224,15 @@ struct VolumeRaySetup
     std::copy(gridToWorld->GetData(), gridToWorld->GetData() + 16, this->GridToWorldMatrix);
     this->Method = method;
     this->SampleDistance = sampleDistance;
+    // Bounds of the field (every component's).
     this->Settings.FieldMinimum = this->Scalars->GetRange(0)[0];
     this->Settings.FieldMaximum = this->Scalars->GetRange(0)[1];
+    for (int k = 1; k < this->Components; ++k)
+    {
+      const double* range = this->Scalars->GetRange(k);
+      this->Settings.FieldMinimum = std::min(this->Settings.FieldMinimum, range[0]);
+      this->Settings.FieldMaximum = std::max(this->Settings.FieldMaximum, range[1]);
+    }
     return std::string();
   }
 
@@ -205,17 +251,22 @@ struct VolumeRaySetup
       budget = ConversionBudget::ForTolerance(
         tolerance, gain, LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
     }
-    const std::string error =
-      TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF, &budget);
+    const bool mixture = this->Components > 1;
+    const std::string error = mixture
+      ? MixtureFromProperty(property, this->Components, this->Scalars->GetDataType(), extinction,
+          this->Voxel, this->Mixture, &budget)
+      : TransferFunctionFromProperty(property, extinction, this->Voxel, this->TF, &budget);
     this->ApproximatedIntervals = budget.Approximated;
     this->Settings.Tolerance = IntegrationTolerance(tolerance, budget);
     if (!error.empty())
     {
       return "unusable transfer function: " + error;
     }
-    if (method == RayIntegration::Levoy)
+    // (The Riemann kernel's table is that of a single medium: a mixture of
+    // which several components show takes the scalar sums.)
+    if (method == RayIntegration::Levoy && this->SingleMedium())
     {
-      const std::string tableError = this->Table.Build(this->TF);
+      const std::string tableError = this->Table.Build(*this->SingleMedium());
       if (!tableError.empty())
       {
         return "unusable transfer function: " + tableError;
@@ -223,8 +274,10 @@ struct VolumeRaySetup
     }
     if (method == RayIntegration::Piecewise)
     {
-      const std::string piecesError = this->Pieces.Build(
-        this->TF, avos::numerics::PiecewiseRelativeError(this->Settings.Tolerance));
+      const double relativeError = avos::numerics::PiecewiseRelativeError(this->Settings.Tolerance);
+      const std::string piecesError = mixture
+        ? this->MixturePieces.Build(this->Mixture.Mixture, relativeError)
+        : this->Pieces.Build(this->TF, relativeError);
       if (!piecesError.empty())
       {
         return "the piecewise method cannot use this transfer function at tolerance " +
@@ -243,6 +296,12 @@ struct VolumeRaySetup
     if (!this->UsesGradientOpacity)
     {
       return std::string();
+    }
+    const std::string unmodelled = this->Ungraded();
+    if (!unmodelled.empty())
+    {
+      return "gradient opacity is not supported with " + unmodelled +
+        "; disable the property's gradient opacity";
     }
     int approximated = 0;
     const std::string error =
@@ -266,9 +325,29 @@ struct VolumeRaySetup
     {
       return std::string();
     }
+    const std::string unmodelled = this->Ungraded();
+    if (!unmodelled.empty())
+    {
+      return "cannot shade " + unmodelled + "; turn the property's Shade off";
+    }
     std::vector<double> key; // the mapper's view key holds its own copy
     const std::string invalid = ShadingFromRenderer(lights, property, this->Shading, key);
     return invalid.empty() ? invalid : "cannot shade: " + invalid;
+  }
+
+  // Empty, or the volume whose gradient (for shading and gradient opacity)
+  // is not modelled, as vtkAdaptiveVolumeMapper's: several components, or a
+  // field other than the trilinear interpolant of point scalars.
+  std::string Ungraded() const
+  {
+    if (this->Components > 1)
+    {
+      return "scalars of " + std::to_string(this->Components) + " components";
+    }
+    return this->Field == avos::engine::ScalarField::Trilinear
+      ? std::string()
+      : "a field other than point scalars with linear interpolation (constant per cell: no "
+        "gradient; cell scalars' between their centres is not modelled)";
   }
 
   // Calls f(caster) with the execution's VolumeRay; false for a scalar type
@@ -278,13 +357,18 @@ struct VolumeRaySetup
 };
 
 // Whether the rays of `setup` read the engine's view of the scalars: the
-// Riemann kernel's (unshaded, without gradient opacity), and the piecewise method's cells where the
-// scalars are 8- or 16-bit unsigned (the only ones the cells' kernel reads).
+// Riemann kernel's (unshaded, without gradient opacity), and the piecewise
+// method's cells where the scalars are 8- or 16-bit unsigned (the only ones
+// the cells' kernel reads). Both read the trilinear interpolant of one
+// component (ShownComponent).
 inline bool ReadsEngineScalars(const VolumeRaySetup& setup)
 {
-  return (setup.Method == RayIntegration::Levoy && !setup.Shade && !setup.UsesGradientOpacity) ||
-    (setup.Method == RayIntegration::Piecewise && setup.Scalars &&
-      avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType())));
+  const bool readable = setup.Scalars && setup.ShownComponent() >= 0 &&
+    setup.Field == avos::engine::ScalarField::Trilinear;
+  return readable &&
+    ((setup.Method == RayIntegration::Levoy && !setup.Shade && !setup.UsesGradientOpacity) ||
+      (setup.Method == RayIntegration::Piecewise &&
+        avos::engine::ReadsCells(EngineVolume::EngineType(setup.Scalars->GetDataType()))));
 }
 
 // The rays of one execution, integrated as vtkAdaptiveVolumeMapper's are:
@@ -307,9 +391,13 @@ public:
     m.Adaptive = setup.Settings;
     m.SampleDistance = setup.SampleDistance;
     m.TerminationBound = this->TerminationBound();
-    m.TF = &setup.TF;
+    const bool mixture = setup.Components > 1;
+    m.TF = mixture ? nullptr : &setup.TF;
+    m.Mixture = mixture ? &setup.Mixture.Mixture : nullptr;
     m.Map = setup.Map;
-    m.Pieces = &setup.Pieces;
+    m.Pieces = mixture ? nullptr : &setup.Pieces;
+    m.MixturePieces =
+      mixture && setup.Method == RayIntegration::Piecewise ? &setup.MixturePieces : nullptr;
     m.EngineVolume = setup.Method == RayIntegration::Levoy ? setup.Engine : nullptr;
     m.EngineTable = &setup.Table;
     m.Kernels = avos::engine::PieceKernels(
@@ -496,11 +584,20 @@ public:
   // a scalar type the map cannot read.
   const avos::numerics::EmptySpaceMap<double>* Update(const VolumeRaySetup& setup)
   {
-    if (!this->Ranges.Update(setup.Scalars, setup.Dimensions))
+    if (!this->Ranges.Update(setup.Scalars, setup.Dimensions, SamplesOf(setup.Field)))
     {
       return nullptr;
     }
-    this->Ranges.GetMap().Classify(setup.TF);
+    if (setup.Components > 1)
+    {
+      const avos::numerics::MixtureTransferFunction<double>& medium = setup.Mixture.Mixture;
+      this->Ranges.GetMap().ClassifyBlocks(
+        [&medium](const double* lo, const double* hi) { return medium.IsVisible(lo, hi); });
+    }
+    else
+    {
+      this->Ranges.GetMap().Classify(setup.TF);
+    }
     return &this->Ranges.GetMap();
   }
 
@@ -508,8 +605,6 @@ private:
   EmptySpaceRanges Ranges;
 };
 
-// A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes
-// output.
 // Points the prepared setup at the execution's empty-space map (when
 // `skipping`) and at the engine's view of the scalars where its rays read
 // it, both kept across executions by the calling class.
@@ -517,8 +612,9 @@ inline void UseCaches(
   VolumeRaySetup& setup, EmptySpaceCache& emptySpace, EngineVolume& engineScalars, bool skipping)
 {
   setup.Map = skipping ? emptySpace.Update(setup) : nullptr;
-  setup.Engine =
-    ReadsEngineScalars(setup) ? engineScalars.Update(setup.Scalars, setup.Dimensions) : nullptr;
+  setup.Engine = ReadsEngineScalars(setup)
+    ? engineScalars.Update(setup.Scalars, setup.Dimensions, setup.ShownComponent())
+    : nullptr;
 }
 
 // Says on `caller` why the setup could not be prepared (`error`: an error,
@@ -538,6 +634,8 @@ inline bool ReportPrepared(vtkObject* caller, const std::string& error, const Vo
   return true;
 }
 
+// A ray's RGBA, clamped to [0, 1], as the 8-bit vertex colour both classes
+// output.
 inline std::array<unsigned char, 4> ToBytes(const glm::dvec4& rgba)
 {
   std::array<unsigned char, 4> bytes;
@@ -557,6 +655,7 @@ bool VolumeRaySetup::Dispatch(F&& f) const
   {
     return false;
   }
+  view.Field = this->Field;
   f(VolumeRay(*this, view));
   return true;
 }

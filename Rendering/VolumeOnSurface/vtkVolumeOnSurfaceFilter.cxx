@@ -288,8 +288,9 @@ int vtkVolumeOnSurfaceFilter::RequestData(
   this->AssignColours(withNormals, output);
   // The technique's memory (the paper's Table III).
   vtkInternals& in = *this->Internals;
+  bool cellScalars = false;
   this->VolumeMemory =
-    static_cast<vtkIdType>(volume->GetPointData()->GetScalars()->GetActualMemorySize()) * 1024;
+    static_cast<vtkIdType>(avos::VolumeScalars(volume, cellScalars)->GetActualMemorySize()) * 1024;
   this->SurfaceMemory =
     static_cast<vtkIdType>(withNormals->GetPoints()->GetData()->GetActualMemorySize() +
       withNormals->GetPointData()->GetNormals()->GetActualMemorySize() +
@@ -398,7 +399,8 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
   key.Extinction = this->ExtinctionOpacity != 0;
   key.Skipping = this->EmptySpaceSkipping != 0;
   key.Surface = withNormals->GetMTime();
-  vtkDataArray* volumeScalars = volume->GetPointData()->GetScalars();
+  bool cellScalars = false;
+  vtkDataArray* volumeScalars = avos::VolumeScalars(volume, cellScalars);
   key.VolumeScalars = volumeScalars ? volumeScalars->GetMTime() : 0;
   GetGrid(volume, key.VolumeGrid.data());
   key.Property = this->VolumeProperty->GetMTime();

@@ -43,9 +43,12 @@
  * GetNumberOfRaysCast() tells which happened in the last execution.
  *
  * Inputs: port 0 the isosurface (vtkPolyData with point normals; computed
- * with vtkPolyDataNormals when absent), port 1 the volume (vtkImageData,
- * single-component point scalars; SetVolumeConnection). Steps are in voxel
- * units (the smallest spacing), as in vtkAdaptiveVolumeMapper.
+ * with vtkPolyDataNormals when absent), port 1 the volume (vtkImageData;
+ * SetVolumeConnection), read as vtkAdaptiveVolumeMapper reads it: its point
+ * scalars, else its cell scalars, with the property's linear or nearest
+ * interpolation, of 1 to 4 components (independent or dependent, unshaded
+ * and without gradient opacity when several). Steps are in voxel units (the
+ * smallest spacing), as in vtkAdaptiveVolumeMapper.
  *
  * The volume property's gradient opacity scales the extinction as in
  * vtkAdaptiveVolumeMapper (G of the exact gradient's magnitude, scalar units

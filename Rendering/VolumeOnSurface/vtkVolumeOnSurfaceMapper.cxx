@@ -757,7 +757,8 @@ vtkIdType vtkVolumeOnSurfaceMapper::GetVolumeMemory()
   auto* volume = this->GetNumberOfInputConnections(1) > 0
     ? vtkImageData::SafeDownCast(this->GetInputDataObject(1, 0))
     : nullptr;
-  vtkDataArray* scalars = volume ? volume->GetPointData()->GetScalars() : nullptr;
+  bool cellScalars = false;
+  vtkDataArray* scalars = avos::VolumeScalars(volume, cellScalars);
   // GetActualMemorySize() is in KiB.
   return scalars ? static_cast<vtkIdType>(scalars->GetActualMemorySize()) * 1024 : 0;
 }

@@ -317,10 +317,24 @@ int TestVolumeOnSurfaceMapper(int, char*[])
   vtkNew<vtkImageData> pairs;
   pairs->SetDimensions(4, 4, 4);
   pairs->AllocateScalars(VTK_FLOAT, 2);
+  pairs->GetPointData()->GetScalars()->Fill(0.0);
   mapper->SetVolumeData(pairs);
+  property->ShadeOn();
   camera->Azimuth(1);
   window->Render();
-  Expect(errors.Check("two components", "single-component"), "multi-component volume");
+  Expect(errors.Check("two components, shaded", "cannot shade scalars of 2 components"),
+    "a shaded volume of two components");
+  property->ShadeOff();
+  vtkNew<vtkPiecewiseFunction> ramp;
+  ramp->AddPoint(0.0, 0.0);
+  ramp->AddPoint(1.0, 1.0);
+  property->SetGradientOpacity(ramp);
+  camera->Azimuth(1);
+  window->Render();
+  Expect(errors.Check("two components, gradient opacity",
+           "gradient opacity is not supported with scalars of 2 components"),
+    "gradient opacity on a volume of two components");
+  property->DisableGradientOpacityOn();
   mapper->SetVolumeData(volume);
   // Scalars at the edge of double's range overflow between grid points: the
   // piecewise rays cannot be integrated and the frame says so (nothing drawn)

@@ -2,12 +2,15 @@
 vtkOpenMeshDecimation -> VoS^M. Every vertex gets a colour array entry, a
 camera change only reassigns (also when the volume's image was touched but
 its scalars were not), and the memory report adds up. The mapper's
-settings of this round are wrapped (screen density, visibility test)."""
+settings of this round are wrapped (screen density, visibility test). A
+volume of two components (vtkImageAppendComponents) and the property's
+default nearest interpolation are coloured, not refused."""
 
 import avos
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
 from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D
+from vtkmodules.vtkImagingCore import vtkImageAppendComponents
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
 
 
@@ -73,6 +76,53 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         vos.SetVolumeConnection(other.GetOutputPort())
         vos.Update()
         self.assertEqual(vos.GetNumberOfRaysCast(), 12 * n)
+
+    def test_components_and_nearest(self):
+        volume = avos.vtkAnalyticVolumeSource()
+        volume.SetFunctionToSphereDistance()
+        volume.SetDimensions(24, 24, 24)
+        pair = vtkImageAppendComponents()
+        pair.AddInputConnection(volume.GetOutputPort())
+        pair.AddInputConnection(volume.GetOutputPort())
+        surface = vtkFlyingEdges3D()
+        surface.SetInputConnection(volume.GetOutputPort())
+        surface.SetValue(0, 0.5)
+        surface.ComputeNormalsOn()
+        color = vtkColorTransferFunction()
+        color.AddRGBPoint(0.0, 1.0, 0.5, 0.2)
+        color.AddRGBPoint(2.0, 0.2, 0.5, 1.0)
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(0.0, 0.4)
+        opacity.AddPoint(2.0, 0.05)
+        camera = vtkCamera()
+        camera.SetPosition(0, 0, 6)
+
+        def colours(source, prop):
+            vos = avos.vtkVolumeOnSurfaceFilter()
+            vos.SetInputConnection(surface.GetOutputPort())
+            vos.SetVolumeConnection(source.GetOutputPort())
+            vos.SetVolumeProperty(prop)
+            vos.SetCamera(camera)
+            vos.FlipNormalsOn()
+            vos.Update()
+            rgba = vos.GetOutput().GetPointData().GetScalars()
+            self.assertIsNotNone(rgba)
+            return [rgba.GetValue(i) for i in range(rgba.GetNumberOfValues())]
+
+        one = vtkVolumeProperty()  # nearest interpolation: VTK's default
+        one.SetColor(color)
+        one.SetScalarOpacity(opacity)
+        halves = vtkVolumeProperty()
+        for k in range(2):
+            halves.SetColor(k, color)
+            halves.SetScalarOpacity(k, opacity)
+            halves.SetComponentWeight(k, 0.5)
+        single = colours(volume, one)
+        self.assertGreater(max(single), 100)
+        # Two halves of one medium are that medium (within eps 1e-2 and a count).
+        mixed = colours(pair, halves)
+        self.assertEqual(len(mixed), len(single))
+        self.assertLessEqual(max(abs(a - b) for a, b in zip(mixed, single)), 6)
 
     def test_mapper_settings(self):
         mapper = avos.vtkVolumeOnSurfaceMapper()
