@@ -601,17 +601,29 @@ public:
     return &this->Ranges.GetMap();
   }
 
+  // The NaN scalars' notice, once per change of the scalars (EmptySpaceRanges).
+  std::string NaNNotice() { return this->Ranges.NaNNotice(); }
+
 private:
   EmptySpaceRanges Ranges;
 };
 
 // Points the prepared setup at the execution's empty-space map (when
 // `skipping`) and at the engine's view of the scalars where its rays read
-// it, both kept across executions by the calling class.
-inline void UseCaches(
-  VolumeRaySetup& setup, EmptySpaceCache& emptySpace, EngineVolume& engineScalars, bool skipping)
+// it, both kept across executions by the calling class. The rays take NaN
+// scalars as vtkAdaptiveVolumeMapper does (a cell with a NaN corner is
+// empty), and `caller` warns of them as it does: once per change of the
+// scalars, from the map's ranges (kept with skipping off too).
+inline void UseCaches(vtkObject* caller, VolumeRaySetup& setup, EmptySpaceCache& emptySpace,
+  EngineVolume& engineScalars, bool skipping)
 {
-  setup.Map = skipping ? emptySpace.Update(setup) : nullptr;
+  const avos::numerics::EmptySpaceMap<double>* map = emptySpace.Update(setup);
+  const std::string nans = emptySpace.NaNNotice();
+  if (!nans.empty())
+  {
+    vtkWarningWithObjectMacro(caller, << nans);
+  }
+  setup.Map = skipping ? map : nullptr;
   setup.Engine = ReadsEngineScalars(setup)
     ? engineScalars.Update(setup.Scalars, setup.Dimensions, setup.ShownComponent())
     : nullptr;

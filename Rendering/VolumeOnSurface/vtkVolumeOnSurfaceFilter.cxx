@@ -418,7 +418,7 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
     return false;
   }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
-  avos::UseCaches(setup, in.EmptySpace, in.EngineScalars, key.Skipping);
+  avos::UseCaches(this, setup, in.EmptySpace, in.EngineScalars, key.Skipping);
   in.Setup = &setup;
   const bool cast = this->CastCones(withNormals);
   in.Setup = nullptr;

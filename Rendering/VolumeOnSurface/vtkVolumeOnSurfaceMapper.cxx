@@ -1041,7 +1041,7 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
     return false;
   }
   setup.Side = static_cast<avos::VolumeSide>(this->VolumeSide);
-  avos::UseCaches(setup, in.EmptySpace, in.EngineScalars, this->EmptySpaceSkipping != 0);
+  avos::UseCaches(this, setup, in.EmptySpace, in.EngineScalars, this->EmptySpaceSkipping != 0);
   this->SelectDrawing(levelIndex);
   this->TestVisibility(ren, act);
   in.Current.Setup = &setup;
