@@ -8,15 +8,19 @@
 // against an independent Gauss-Legendre oracle); then lit and with a
 // gradient opacity whose knots the gradients cross on as many rays, the
 // reference the same method at eps 1e-10 (TestPiecewiseGradientOpacity
-// checks it against its oracle). Written by avos-bench-accuracy and
-// avos-bench --adversarial.
+// checks it against its oracle); then the volumes of several components
+// (MixtureCases.h) on `mixtureRays` rays, against their independent oracle.
+// Written by avos-bench-accuracy and avos-bench --adversarial.
 #ifndef avos_numerics_AdversarialReport_h
 #define avos_numerics_AdversarialReport_h
 
 #include "AdversarialCases.h"
+#include "MixtureCases.h"
 
 #include <chrono>
 #include <cstdio>
+#include <thread>
+#include <vector>
 
 namespace adversarial
 {
@@ -60,7 +64,108 @@ inline void WriteSection(std::FILE* file, long rays, int threads,
   }
 }
 
-inline void WriteReport(std::FILE* file, long rays, int threads, long shadedRays)
+// Calls work(begin, end, t) on `threads` threads t, splitting [0, count).
+template <typename Work>
+void SplitRays(long count, int threads, Work&& work)
+{
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t)
+  {
+    pool.emplace_back(work, count * t / threads, count * (t + 1) / threads, t);
+  }
+  for (auto& t : pool)
+  {
+    t.join();
+  }
+}
+
+// The mixtures' section: each case's oracle (mixture::Exact) of `rays`
+// random rays, then the piecewise method at eps 0.01, 0.001 and 1e-4, and,
+// to show that the cases are not lenient, the Riemann sum at a step of 0.5
+// (its "% within" against eps 1e-3).
+inline void WriteMixtureSection(std::FILE* file, long rays, int threads)
+{
+  std::fprintf(file,
+    "| case | method | eps | %% within eps R | G | B | A | max error | max / eps | "
+    "pieces/ray | s |\n");
+  std::fprintf(file, "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const mixture::Case& c : mixture::MakeSuite())
+  {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<glm::dvec4> exact(static_cast<std::size_t>(rays));
+    SplitRays(rays, threads,
+      [&](long begin, long end, int)
+      {
+        for (long i = begin; i < end; ++i)
+        {
+          exact[i] = mixture::Exact(c, mixture::MakeRay(c, static_cast<unsigned>(i)));
+        }
+      });
+    std::fprintf(file, "| %s | oracle | 1e-14 a part | | | | | | | | %.2f |\n", c.Name.c_str(),
+      Seconds(start));
+    const mixture::Volumes volumes = c.MakeVolumes();
+    const an::MixtureTransferFunction<double> medium = c.Mixture();
+    for (const double eps : { 1e-2, 1e-3, 1e-4, 0.0 })
+    {
+      const bool riemann = eps == 0.0;
+      const double bound = riemann ? 1e-3 : eps;
+      an::PiecewiseMixture<double> pieces;
+      pieces.Build(medium, an::PiecewiseRelativeError(bound));
+      const auto begin = std::chrono::steady_clock::now();
+      std::vector<Tally> partial(static_cast<std::size_t>(threads));
+      SplitRays(rays, threads,
+        [&](long first, long end, int t)
+        {
+          Tally& tally = partial[static_cast<std::size_t>(t)];
+          for (long i = first; i < end; ++i)
+          {
+            const adversarial::Ray ray = mixture::MakeRay(c, static_cast<unsigned>(i));
+            const an::RayField<double, mixture::Volumes> field{ volumes, ray.Origin,
+              ray.Direction };
+            const an::RayResult<double> r = riemann
+              ? an::IntegrateRiemann(field, medium, ray.Length, 0.5, an::RiemannForm::Exponential)
+              : mixture::Piecewise(c, pieces, ray, eps);
+            ++tally.Rays;
+            tally.Failures += r.Error.empty() ? 0 : 1;
+            tally.Pieces += static_cast<double>(r.Statistics.Pieces);
+            for (int ch = 0; ch < 4; ++ch)
+            {
+              const double e = std::abs(r.RGBA[ch] - exact[i][ch]);
+              tally.Within[ch] += e <= bound ? 1 : 0;
+              tally.Maximum[ch] = std::max(tally.Maximum[ch], std::isfinite(e) ? e : 1e300);
+            }
+          }
+        });
+      Tally total;
+      for (const Tally& t : partial)
+      {
+        total.Rays += t.Rays;
+        total.Failures += t.Failures;
+        total.Pieces += t.Pieces;
+        for (int ch = 0; ch < 4; ++ch)
+        {
+          total.Within[ch] += t.Within[ch];
+          total.Maximum[ch] = std::max(total.Maximum[ch], t.Maximum[ch]);
+        }
+      }
+      char epsText[16];
+      std::snprintf(epsText, sizeof(epsText), riemann ? "(%g)" : "%g", bound);
+      std::fprintf(file,
+        "| %s | %s | %s | %.3f | %.3f | %.3f | %.3f | %.2e | %.2f | %.1f | %.2f |\n",
+        c.Name.c_str(), riemann ? "Riemann h 0.5" : "piecewise", epsText, total.Percent(0),
+        total.Percent(1), total.Percent(2), total.Percent(3), total.WorstMaximum(),
+        total.WorstMaximum() / bound, total.Pieces / std::max(1L, total.Rays), Seconds(begin));
+      if (total.Failures > 0)
+      {
+        std::fprintf(file, "\n%ld rays failed\n\n", total.Failures);
+      }
+      std::fflush(file);
+    }
+  }
+}
+
+inline void WriteReport(
+  std::FILE* file, long rays, int threads, long shadedRays, long mixtureRays = 0)
 {
   std::fprintf(
     file, "# Adversarial accuracy suite: %ld random rays per case, %d threads\n\n", rays, threads);
@@ -86,6 +191,17 @@ inline void WriteReport(std::FILE* file, long rays, int threads, long shadedRays
       "at eps 1e-10 (samples: enclosures of the extinction and the lit colour).\n\n",
       shadedRays);
     WriteSection(file, shadedRays, threads, &lighting, true);
+  }
+  if (mixtureRays > 0)
+  {
+    std::fprintf(file,
+      "\n## Several components: %ld random rays per case\n\nIndependent components "
+      "overlapping (spikes on binary and two-material data, steps and random functions with "
+      "weights, three components) and both dependent mixtures; errors against an independent "
+      "oracle (cuts at every cell face and knot crossing, adaptive Gauss-Legendre at 1e-14 a "
+      "part; MixtureCases.h).\n\n",
+      mixtureRays);
+    WriteMixtureSection(file, mixtureRays, threads);
   }
 }
 } // namespace adversarial
