@@ -3,6 +3,7 @@
 #include "avosAdaptiveIntegratorGLSL.h"
 #include "avosClippingPlanes.h"
 #include "avosEmptySpaceRanges.h"
+#include "avosEngineVolume.h"
 #include "avosImageGrid.h"
 #include "avosShadingFromRenderer.h"
 #include "avosTransferFunctionFromProperty.h"
@@ -54,26 +55,26 @@ constexpr int MaximumLights = 8;
 // (avos_gradientFactor's 7 steps).
 constexpr int MaximumGradientPieces = 128;
 
-// The field the scalars make, as the shader's avos_fieldKind numbers it
-// (the CPU mapper's engine::ScalarField): point scalars trilinear or
-// nearest, cell scalars constant per cell (nearest) or trilinear between the
-// cells' centres (linear).
-enum class Field
-{
-  Trilinear = 0,
-  Nearest = 1,
-  Cells = 2,
-  CellCentres = 3
-};
+// The field the scalars make (avos::FieldOf), numbered as the shader's
+// avos_fieldKind numbers it: point scalars trilinear (0) or nearest (1), cell
+// scalars constant per cell (nearest, 2) or trilinear between the cells'
+// centres (linear, 3).
+using Field = avos::engine::ScalarField;
+static_assert(static_cast<int>(Field::Trilinear) == 0 && static_cast<int>(Field::Nearest) == 1 &&
+    static_cast<int>(Field::Cells) == 2 && static_cast<int>(Field::CellCentres) == 3,
+  "the shader's avos_fieldKind numbers");
 
-// How the shader reads the data's scalar from VTK 9.1's texture: texel *
+// How the shader reads the data's scalar (component `component`: a channel
+// of the texture) from VTK 9.1's texture: texel *
 // Scale + Bias, rounded to an integer where Round. 8- and 16-bit integers
 // are uploaded normalised (unsigned: UNORM, k / (2^b - 1); signed: SNORM,
 // k / (2^(b-1) - 1), where -2^(b-1) reads as -2^(b-1) + 1); float as is;
 // other types (double, 32- and 64-bit integers) cast to float after VTK's
 // scale and bias onto [0, 1] over their finite range
 // (vtkVolumeTexture::GetScaleAndBias), which the shader inverts within
-// float's rounding of that range. Empty, or why the scalars cannot be read.
+// float's rounding of that range; with several components VTK uploads those
+// types to an 8-bit texture (GL_RG, GL_RGB, GL_RGBA), which loses them: they
+// are refused. Empty, or why the scalars cannot be read.
 struct TexelMap
 {
   float Scale = 1.0f;
@@ -81,12 +82,12 @@ struct TexelMap
   bool Round = false;
 };
 
-std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map)
+std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map, int component = 0)
 {
   map = TexelMap();
   const int type = scalars->GetDataType();
   double range[2];
-  scalars->GetFiniteRange(range, 0);
+  scalars->GetFiniteRange(range, component);
   auto integers = [&](double unit, double minimum)
   {
     map.Scale = static_cast<float>(unit);
@@ -120,6 +121,13 @@ std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map)
     case VTK_LONG_LONG:
     case VTK_UNSIGNED_LONG_LONG:
     {
+      if (scalars->GetNumberOfComponents() > 1)
+      {
+        return std::string("scalars of several components of type ") +
+          scalars->GetDataTypeAsString() +
+          " (VTK uploads them to an 8-bit texture, which loses them): convert them with "
+          "vtkImageCast to float";
+      }
       // VTK: texel = float(v scale + bias), scale = float(1 / (hi - lo)),
       // bias = float(-lo scale), lo and hi the finite range in float.
       const double lo = static_cast<float>(range[0]);
@@ -140,6 +148,69 @@ std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map)
   }
 }
 
+// Empty, or why a volume of `components` components cannot be rendered with
+// `property` in `blendMode`: as on the CPU, several components are not
+// shaded, take no gradient opacity and no projection.
+std::string RefusedForComponents(int components, int blendMode, vtkVolumeProperty* property)
+{
+  if (components < 2)
+  {
+    return std::string();
+  }
+  const std::string what = "scalars of " + std::to_string(components) + " components";
+  if (blendMode != vtkVolumeMapper::COMPOSITE_BLEND)
+  {
+    return what + " are rendered with the composite blend mode only, not with projections";
+  }
+  if (property && property->GetShade(0))
+  {
+    return "Cannot shade " + what +
+      " (their gradients are not modelled); turn the property's "
+      "Shade off";
+  }
+  if (property && avos::UsesGradientOpacity(property, 0))
+  {
+    return "Gradient opacity is not supported with " + what +
+      "; disable the property's gradient opacity";
+  }
+  return std::string();
+}
+
+// The property's transfer function for the scalars into `tf`, within
+// `budget` (TransferFunctionFromProperty). Of several components, the
+// medium of the one that alone shows (the others of weight 0 or
+// transparent; MixtureTransferFunction::GetSingle: its weight in its
+// extinction), its index in `component` (the texture channel the shader
+// reads; 0 for one component). Empty, or why not.
+std::string ConvertTransferFunction(vtkVolumeProperty* property, vtkDataArray* scalars,
+  bool extinction, double voxel, avos::ConversionBudget& budget,
+  avos::numerics::TransferFunction<double>& tf, avos::MixtureFunctions& mixture, int& component)
+{
+  const int components = scalars->GetNumberOfComponents();
+  component = 0;
+  if (components == 1)
+  {
+    return avos::TransferFunctionFromProperty(property, extinction, voxel, tf, &budget);
+  }
+  const std::string error = avos::MixtureFromProperty(
+    property, components, scalars->GetDataType(), extinction, voxel, mixture, &budget);
+  if (!error.empty())
+  {
+    return error;
+  }
+  const avos::numerics::MixtureTransferFunction<double>& medium = mixture.Mixture;
+  if (!medium.GetSingle())
+  {
+    return "scalars of " + std::to_string(components) +
+      " components are rendered where one component alone shows (the others of weight 0 or "
+      "an opacity of 0 everywhere); in this mixture several show (or the components are "
+      "dependent): vtkAdaptiveVolumeMapper renders it";
+  }
+  tf = *medium.GetSingle();
+  component = medium.GetSingleComponent();
+  return std::string();
+}
+
 // x = hi + lo to about 2^-48 relative: hi is x rounded to float, lo the rest.
 void Split(double x, float& hi, float& lo)
 {
@@ -155,6 +226,14 @@ public:
   // The property's transfer function, converted again only when the
   // property, the opacity model or the voxel size change.
   avos::numerics::TransferFunction<double> TF;
+  // Scalars of several components: their mixture, of which one component
+  // alone must show (the others of weight 0 or transparent everywhere): TF
+  // is that component's medium, its weight in its extinction
+  // (MixtureTransferFunction::GetSingle), and Component the texture channel
+  // the shader reads (0 for one component).
+  avos::MixtureFunctions Mixture;
+  int Component = 0;
+  int TFComponents = 1;            // the scalars' components TF was converted for
   vtkMTimeType TFPropertyTime = 0; // 0: not converted (or refused)
   int TFModel = 0;
   double TFVoxel = 0.0;
@@ -257,9 +336,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   {
     problem = this->CheckMethodSettings();
   }
+  const int components = problem.empty() ? this->GetRenderedScalars()->GetNumberOfComponents() : 1;
   if (problem.empty())
   {
-    problem = avos::UnsupportedPropertySettings(property, true, true, 1, true);
+    problem = avos::UnsupportedPropertySettings(property, true, true, components, true);
+  }
+  if (problem.empty())
+  {
+    problem = RefusedForComponents(components, this->BlendMode, property);
   }
   return problem.empty() ? this->CheckGradientSettings(property) : problem;
 }
@@ -319,8 +403,7 @@ int vtkOpenGLAdaptiveVolumeMapper::ScalarFieldOf(vtkVolumeProperty* property)
   vtkAbstractMapper::GetScalars(this->GetInput(), this->ScalarMode, this->ArrayAccessMode,
     this->ArrayId, this->ArrayName, cellFlag);
   const bool nearest = property->GetInterpolationType() == VTK_NEAREST_INTERPOLATION;
-  return static_cast<int>(cellFlag != 0 ? (nearest ? Field::Cells : Field::CellCentres)
-                                        : (nearest ? Field::Nearest : Field::Trilinear));
+  return static_cast<int>(avos::FieldOf(cellFlag != 0, nearest));
 }
 
 //------------------------------------------------------------------------------
@@ -334,7 +417,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckInput()
   int cellFlag = 0;
   vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
     input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
-  const std::string invalid = avos::ValidateVolumeInput(input, scalars, cellFlag != 0);
+  const std::string invalid =
+    avos::ValidateVolumeInput(input, scalars, cellFlag != 0, avos::numerics::MaximumComponents);
   if (!invalid.empty())
   {
     return invalid;
@@ -343,8 +427,13 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckInput()
   {
     return "a vtkMultiVolume's inputs beyond the first are not supported";
   }
-  TexelMap texels;
-  return TexelToScalar(scalars, texels);
+  std::string unreadable;
+  for (int k = 0; k < scalars->GetNumberOfComponents() && unreadable.empty(); ++k)
+  {
+    TexelMap texels;
+    unreadable = TexelToScalar(scalars, texels, k);
+  }
+  return unreadable;
 }
 
 //------------------------------------------------------------------------------
@@ -494,7 +583,6 @@ std::string vtkOpenGLAdaptiveVolumeMapper::PrepareFrame(
     return error;
   }
   vtkImageData* input = vtkImageData::SafeDownCast(this->GetInput());
-  this->GetRenderedScalars()->GetRange(this->Internals->DataRange, 0);
   this->Internals->ScalarField = static_cast<Field>(this->ScalarFieldOf(property));
   voxel = avos::GridToWorld(input, vol->GetMatrix(), gridToWorld);
   if (!(voxel > 0.0) || !std::isfinite(voxel) || gridToWorld->Determinant() == 0.0)
@@ -620,14 +708,18 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
     budget = avos::ConversionBudget::ForTolerance(
       this->Tolerance, 1.0, avos::LongestChord(gridToWorld, dims) / voxel);
   }
+  vtkDataArray* scalars = this->GetRenderedScalars();
+  const int components = scalars->GetNumberOfComponents();
   if (property->GetMTime() != internals.TFPropertyTime || this->OpacityModel != internals.TFModel ||
-    voxel != internals.TFVoxel || !budget.SameAs(internals.Conversion))
+    voxel != internals.TFVoxel || !budget.SameAs(internals.Conversion) ||
+    components != internals.TFComponents)
   {
-    error = avos::TransferFunctionFromProperty(
-      property, this->OpacityModel == EXTINCTION_OPACITY, voxel, internals.TF, &budget);
+    error = ConvertTransferFunction(property, scalars, this->OpacityModel == EXTINCTION_OPACITY,
+      voxel, budget, internals.TF, internals.Mixture, internals.Component);
     internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
+    internals.TFComponents = components;
     internals.Conversion = budget;
     internals.TFTime.Modified();
     if (!error.empty())
@@ -639,6 +731,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
       vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
   }
+  scalars->GetRange(internals.DataRange, internals.Component);
   internals.IntegrationTolerance =
     piecewise ? avos::IntegrationTolerance(this->Tolerance, internals.Conversion) : this->Tolerance;
   // (The additive projection integrates the same pieces at the tolerance.)
@@ -723,7 +816,8 @@ void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
 {
   vtkDataArray* scalars = this->GetRenderedScalars();
   TexelMap texels;
-  TexelToScalar(scalars, texels);
+  TexelToScalar(scalars, texels, this->Internals->Component);
+  uniforms->SetUniformi("avos_component", this->Internals->Component);
   uniforms->SetUniformf("avos_texelScale", texels.Scale);
   uniforms->SetUniformf("avos_texelBias", texels.Bias);
   uniforms->SetUniformi("avos_texelRound", texels.Round ? 1 : 0);
@@ -960,13 +1054,11 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateRanges()
   // change (the types TexelToScalar accepts all work). A block's range
   // covers what its cells' field reads (cell scalars: their cells, and the
   // neighbours between centres).
+  // Of several components, the ranges of the one that shows.
   vtkInternals& internals = *this->Internals;
-  using Samples = avos::EmptySpaceRanges::Samples;
-  const Samples samples = internals.ScalarField == Field::Cells ? Samples::Cells
-    : internals.ScalarField == Field::CellCentres               ? Samples::CellCentres
-                                                                : Samples::Points;
   internals.Ranges.Update(this->GetRenderedScalars(),
-    vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(), samples);
+    vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(),
+    avos::SamplesOf(internals.ScalarField), internals.Component);
   // NaN, as on the CPU: every cell with a NaN corner is empty (the shader's
   // avos_corners; a sample there is NaN, transparent). Said once per change
   // of the scalars.

@@ -19,13 +19,14 @@
 // the searches by log2 of the knot count.
 
 // ---------------------------------------------------------------- the field
-// Grid point value: the texel as uploaded by VTK (normalised for integer
+// Grid point value: the texel's channel avos_component (of several
+// components, the one rendered) as uploaded by VTK (normalised for integer
 // types, scaled onto [0, 1] for 32- and 64-bit ones) mapped back to the
 // data's scalar (the mapper's TexelMap), rounded to the integer it was for
 // integer data: exact for them.
 float avos_texel(ivec3 p)
 {
-  float v = texelFetch(in_volume[0], p, 0).r * avos_texelScale + avos_texelBias;
+  float v = texelFetch(in_volume[0], p, 0)[avos_component] * avos_texelScale + avos_texelBias;
   return avos_texelRound != 0 ? round(v) : v;
 }
 

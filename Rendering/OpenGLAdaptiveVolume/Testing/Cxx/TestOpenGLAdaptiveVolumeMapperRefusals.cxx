@@ -299,9 +299,31 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   vtkNew<vtkImageAppendComponents> twoComponents;
   twoComponents->AddInputConnection(source->GetOutputPort());
   twoComponents->AddInputConnection(source->GetOutputPort());
+  // Two components that both show (the same functions on both); a second
+  // component of opacity 0 renders (TestOpenGLAdaptiveVolumeMapperPython).
   refused(
-    "two components", "only single-component scalars are supported by this class",
+    "two visible components", "in this mixture several show",
     [&] { mapper->SetInputConnection(twoComponents->GetOutputPort()); },
+    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+  vtkNew<vtkImageShiftScale> toDouble;
+  toDouble->SetInputConnection(source->GetOutputPort());
+  toDouble->SetOutputScalarTypeToDouble();
+  vtkNew<vtkImageAppendComponents> twoDoubles;
+  twoDoubles->AddInputConnection(toDouble->GetOutputPort());
+  twoDoubles->AddInputConnection(toDouble->GetOutputPort());
+  refused(
+    "two double components", "uploads them to an 8-bit texture",
+    [&] { mapper->SetInputConnection(twoDoubles->GetOutputPort()); },
+    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+  vtkNew<vtkImageAppendComponents> fiveComponents;
+  for (int k = 0; k < 5; ++k)
+  {
+    fiveComponents->AddInputConnection(source->GetOutputPort());
+  }
+  // (VTK's own check, before the frame reaches ours.)
+  refused(
+    "five components", "Only 1 - 4 component scalars are supported",
+    [&] { mapper->SetInputConnection(fiveComponents->GetOutputPort()); },
     [&] { mapper->SetInputConnection(source->GetOutputPort()); });
   vtkNew<vtkPiecewiseFunction> empty;
   refused(

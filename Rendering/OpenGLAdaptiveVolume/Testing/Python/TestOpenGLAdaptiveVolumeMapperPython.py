@@ -6,9 +6,9 @@ intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
 integral; clipping planes and cropping cut its rays where they cut the CPU
 mapper's; it reads signed, 32-bit and double scalars, nearest
-interpolation, cell scalars and NaN, and shades, scales by gradient opacity
-and projects additively or by the average as the CPU mapper does; a bad
-tolerance is refused and draws nothing."""
+interpolation, cell scalars, NaN and one component of several, and shades,
+scales by gradient opacity and projects additively or by the average as the
+CPU mapper does; a bad tolerance is refused and draws nothing."""
 
 import avos
 from vtkmodules.test import Testing
@@ -19,7 +19,7 @@ from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkLight, vtk
                                          vtkRenderer, vtkVolume, vtkVolumeProperty)
 from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
 from vtkmodules.vtkCommonExecutionModel import vtkTrivialProducer
-from vtkmodules.vtkImagingCore import vtkImageShiftScale
+from vtkmodules.vtkImagingCore import vtkImageAppendComponents, vtkImageShiftScale
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (OpenGL render window)
 import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper)
 
@@ -419,6 +419,49 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             worst, covered = self.gpuDifference(gpu, expected, warningCount=1)
             self.assertGreater(covered, SIZE * SIZE // 16, name)
             self.assertLessEqual(worst, bound, name)
+
+    def testOneComponentOfSeveralAsTheCPUMapper(self):
+        # Scalars of three components of which the last alone shows (the
+        # first transparent, the second of weight 0): the GPU reads that
+        # channel of VTK's texture with its medium, its weight 1.5 in its
+        # extinction, as the CPU mapper casts it: the piecewise method within
+        # eps of the CPU's exact image, the Riemann sum as the CPU's. Float
+        # (RGB32F) and unsigned short (normalised RGB16) textures.
+        for name, top in (("FLOAT", 1.0), ("UNSIGNED_SHORT", 60000.0)):
+            self.setUp()
+            shown = vtkImageShiftScale()
+            shown.SetInputConnection(self.source.GetOutputPort())
+            shown.SetScale(top)
+            shown.SetOutputScalarType(getattr(vtkCommonCore, "VTK_" + name))
+            hidden = vtkImageShiftScale()
+            hidden.SetInputConnection(self.source.GetOutputPort())
+            hidden.SetShift(-1.0)
+            hidden.SetScale(-0.5 * top)  # another field: 1 - s, halved
+            hidden.SetOutputScalarType(getattr(vtkCommonCore, "VTK_" + name))
+            tuples = vtkImageAppendComponents()
+            for part in (hidden, hidden, shown):
+                tuples.AddInputConnection(part.GetOutputPort())
+            color = vtkColorTransferFunction()
+            color.AddRGBPoint(0.0, 0.1, 0.3, 1.0)
+            color.AddRGBPoint(top, 1.0, 0.8, 0.2)
+            opacity = vtkPiecewiseFunction()
+            opacity.AddPoint(0.0, 0.0)
+            opacity.AddPoint(0.5 * top, 0.0)
+            opacity.AddPoint(top, 0.4)
+            none = vtkPiecewiseFunction()
+            none.AddPoint(0.0, 0.0)
+            none.AddPoint(top, 0.0)
+            for k, (function, weight) in enumerate(((none, 1.0), (opacity, 0.0), (opacity, 1.5))):
+                self.prop.SetColor(k, color)
+                self.prop.SetScalarOpacity(k, function)
+                self.prop.SetComponentWeight(k, weight)
+            self.source = tuples
+            for case, cpu, gpu, bound in self.exactCases(1e-4):
+                if case == "maximum":
+                    continue  # (several components take the composite blend only)
+                worst, covered = self.gpuDifference(gpu, self.cpuImage(cpu))
+                self.assertGreater(covered, SIZE * SIZE // 16, name + ", " + case)
+                self.assertLessEqual(worst, bound, name + ", " + case)
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
