@@ -64,9 +64,9 @@ static_assert(static_cast<int>(Field::Trilinear) == 0 && static_cast<int>(Field:
     static_cast<int>(Field::Cells) == 2 && static_cast<int>(Field::CellCentres) == 3,
   "the shader's avos_fieldKind numbers");
 
-// How the shader reads the data's scalar (component `component`: a channel
-// of the texture) from VTK 9.1's texture: texel *
-// Scale + Bias, rounded to an integer where Round. 8- and 16-bit integers
+// How the shader reads the data's scalar (component `component`, a channel
+// of the texture) from VTK 9.1's texture: texel * Scale + Bias, rounded to
+// an integer where Round. 8- and 16-bit integers
 // are uploaded normalised (unsigned: UNORM, k / (2^b - 1); signed: SNORM,
 // k / (2^(b-1) - 1), where -2^(b-1) reads as -2^(b-1) + 1); float as is;
 // other types (double, 32- and 64-bit integers) cast to float after VTK's
@@ -165,8 +165,7 @@ std::string RefusedForComponents(int components, int blendMode, vtkVolumePropert
   if (property && property->GetShade(0))
   {
     return "Cannot shade " + what +
-      " (their gradients are not modelled); turn the property's "
-      "Shade off";
+      " (their gradients are not modelled); turn the property's Shade off";
   }
   if (property && avos::UsesGradientOpacity(property, 0))
   {
@@ -211,6 +210,26 @@ std::string ConvertTransferFunction(vtkVolumeProperty* property, vtkDataArray* s
   return std::string();
 }
 
+// Empty, or why the shader's uniforms cannot hold `pieces` transfer-function
+// pieces (3 vectors each) and `piecewisePieces` piecewise ones (4 each; the
+// shader's knot search takes 12 steps: at most 4096) beside the others.
+std::string UniformStorageProblem(std::size_t pieces, std::size_t piecewisePieces, bool piecewise)
+{
+  GLint vectors = 0;
+  glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
+  const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
+  if (static_cast<GLint>(needed) <= vectors - ReservedUniformVectors && piecewisePieces <= 4096)
+  {
+    return std::string();
+  }
+  std::ostringstream message;
+  message << "the transfer function has " << pieces << " pieces"
+          << (piecewise ? " and " + std::to_string(piecewisePieces) + " piecewise ones" : "")
+          << ": " << needed << " uniform vectors, more than this GPU's fragment uniforms hold ("
+          << std::max(0, vectors - ReservedUniformVectors) << ")";
+  return message.str();
+}
+
 // x = hi + lo to about 2^-48 relative: hi is x rounded to float, lo the rest.
 void Split(double x, float& hi, float& lo)
 {
@@ -224,7 +243,8 @@ class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
 {
 public:
   // The property's transfer function, converted again only when the
-  // property, the opacity model or the voxel size change.
+  // property, the opacity model, the voxel size, the conversion's budget or
+  // the scalars' number of components change.
   avos::numerics::TransferFunction<double> TF;
   // Scalars of several components: their mixture, of which one component
   // alone must show (the others of weight 0 or transparent everywhere): TF
@@ -760,24 +780,9 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
       return "unusable average intensity range: " + error;
     }
   }
-  // Uniform vectors: 3 per transfer-function piece, 4 per piecewise piece.
-  const std::size_t pieces = internals.TF.GetPieces().size();
   const auto* walked = internals.WalkedPieces(this->IntegrationMethod, this->BlendMode);
-  const std::size_t piecewisePieces = walked ? walked->GetNumberOfPieces() : 1;
-  GLint vectors = 0;
-  glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
-  const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
-  // The shader's knot search takes 12 steps: at most 4096 piecewise pieces.
-  if (static_cast<GLint>(needed) > vectors - ReservedUniformVectors || piecewisePieces > 4096)
-  {
-    std::ostringstream message;
-    message << "the transfer function has " << pieces << " pieces"
-            << (piecewise ? " and " + std::to_string(piecewisePieces) + " piecewise ones" : "")
-            << ": " << needed << " uniform vectors, more than this GPU's fragment uniforms hold ("
-            << std::max(0, vectors - ReservedUniformVectors) << ")";
-    return message.str();
-  }
-  return std::string();
+  return UniformStorageProblem(
+    internals.TF.GetPieces().size(), walked ? walked->GetNumberOfPieces() : 1, piecewise);
 }
 
 //------------------------------------------------------------------------------

@@ -398,6 +398,20 @@ struct Tally
   {
     return std::max({ this->Maximum[0], this->Maximum[1], this->Maximum[2], this->Maximum[3] });
   }
+  // Another thread's tally added (its per-ray figures still sums).
+  void Add(const Tally& t)
+  {
+    this->Rays += t.Rays;
+    this->Failures += t.Failures;
+    this->Samples += t.Samples;
+    this->Pieces += t.Pieces;
+    this->Cells += t.Cells;
+    for (int ch = 0; ch < 4; ++ch)
+    {
+      this->Within[ch] += t.Within[ch];
+      this->Maximum[ch] = std::max(this->Maximum[ch], t.Maximum[ch]);
+    }
+  }
 };
 
 // The case's gradient opacity (CrossedGradientOpacity) where `graded`.
@@ -494,16 +508,7 @@ inline Tally Measure(const Case& c, const std::vector<glm::dvec4>& reference, Me
   Tally total;
   for (const Tally& t : partial)
   {
-    total.Rays += t.Rays;
-    total.Failures += t.Failures;
-    total.Samples += t.Samples;
-    total.Pieces += t.Pieces;
-    total.Cells += t.Cells;
-    for (int ch = 0; ch < 4; ++ch)
-    {
-      total.Within[ch] += t.Within[ch];
-      total.Maximum[ch] = std::max(total.Maximum[ch], t.Maximum[ch]);
-    }
+    total.Add(t);
   }
   const double n = static_cast<double>(std::max(1L, total.Rays));
   total.Samples /= n;

@@ -139,14 +139,7 @@ inline void WriteMixtureSection(std::FILE* file, long rays, int threads)
       Tally total;
       for (const Tally& t : partial)
       {
-        total.Rays += t.Rays;
-        total.Failures += t.Failures;
-        total.Pieces += t.Pieces;
-        for (int ch = 0; ch < 4; ++ch)
-        {
-          total.Within[ch] += t.Within[ch];
-          total.Maximum[ch] = std::max(total.Maximum[ch], t.Maximum[ch]);
-        }
+        total.Add(t);
       }
       char epsText[16];
       std::snprintf(epsText, sizeof(epsText), riemann ? "(%g)" : "%g", bound);

@@ -307,10 +307,10 @@ TEST(Mixture, OneVisibleComponentIsASingleComponent)
         const an::RayField<double, Volume> one{ volumes[shown], ray.Origin, ray.Direction };
         const glm::dvec4 mixed =
           an::IntegrateRiemann(field, medium, ray.Length, 0.5, an::RiemannForm::Exponential).RGBA;
-        const glm::dvec4 single = an::IntegrateRiemann(
+        const glm::dvec4 sampled = an::IntegrateRiemann(
           one, *medium.GetSingle(), ray.Length, 0.5, an::RiemannForm::Exponential)
-                                    .RGBA;
-        ExpectWithin(single, mixed, 1e-12);
+                                     .RGBA;
+        ExpectWithin(sampled, mixed, 1e-12);
       }
       both.TF[1 - shown] = visible;
       ASSERT_EQ(pieces.Build(both.Mixture(), an::PiecewiseRelativeError(eps)), "");

@@ -141,6 +141,17 @@ struct Scene
     this->VoS->SetTolerance(1e-3);
   }
 
+  // Integrates by `method`; returns the largest difference, in counts, of
+  // two colourings of the same integral: a count for the Riemann sums (the
+  // same samples), else 2 eps and a count.
+  int Use(int method)
+  {
+    this->VoS->SetIntegrationMethod(method);
+    return method == vtkVolumeOnSurfaceFilter::LEVOY
+      ? 1
+      : static_cast<int>(std::floor(255.0 * 2.0 * this->VoS->GetTolerance())) + 1;
+  }
+
   // VoSColors of the surface for `volume` and `property` (empty after an
   // error, which is printed).
   Colours Colour(vtkImageData* volume, vtkVolumeProperty* property)
@@ -181,6 +192,9 @@ vtkSmartPointer<vtkVolumeProperty> Property(int components,
   }
   return property;
 }
+
+const int Methods[] = { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE,
+  vtkVolumeOnSurfaceFilter::PIECEWISE };
 
 const char* MethodName(int method)
 {
@@ -250,14 +264,10 @@ int TestVolumeOnSurfaceComponents(int, char*[])
   byteDependent->IndependentComponentsOff();
 
   Scene scene;
-  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE,
-         vtkVolumeOnSurfaceFilter::PIECEWISE })
+  for (int method : Methods)
   {
-    scene.VoS->SetIntegrationMethod(method);
+    const int bound = scene.Use(method);
     const std::string name = MethodName(method);
-    const int bound = method == vtkVolumeOnSurfaceFilter::LEVOY
-      ? 1
-      : static_cast<int>(std::floor(255.0 * 2.0 * scene.VoS->GetTolerance())) + 1;
     const Colours reference = scene.Colour(one, single);
     const int lit = std::count_if(
       reference.begin(), reference.end(), [](const std::array<int, 4>& c) { return c[3] > 20; });
@@ -306,14 +316,10 @@ int TestVolumeOnSurfaceComponents(int, char*[])
   const auto points = Volume(coarse, 1, false, 0.0, 0, VTK_DOUBLE, s);
   // Cell (i, j, k) of the dual grid is centred on point (i, j, k).
   const auto cells = Volume(coarse, 1, true, -0.5 * h, 1, VTK_DOUBLE, s);
-  for (int method : { vtkVolumeOnSurfaceFilter::LEVOY, vtkVolumeOnSurfaceFilter::ADAPTIVE,
-         vtkVolumeOnSurfaceFilter::PIECEWISE })
+  for (int method : Methods)
   {
-    scene.VoS->SetIntegrationMethod(method);
+    const int bound = scene.Use(method);
     const std::string name = MethodName(method);
-    const int bound = method == vtkVolumeOnSurfaceFilter::LEVOY
-      ? 1
-      : static_cast<int>(std::floor(255.0 * 2.0 * scene.VoS->GetTolerance())) + 1;
     const Colours pointsLinear = scene.Colour(points, linear);
     const int perCell = Difference(scene.Colour(cells, nearest), scene.Colour(points, nearest));
     const int centres = Difference(scene.Colour(cells, linear), pointsLinear);
