@@ -14,6 +14,17 @@ from vtkmodules.vtkImagingCore import vtkImageAppendComponents
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
 
 
+def transfer_functions(first_opacity, last_opacity):
+    """The tests' colour map over the distances [0, 2] and a linear opacity."""
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(0.0, 1.0, 0.5, 0.2)
+    color.AddRGBPoint(2.0, 0.2, 0.5, 1.0)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(0.0, first_opacity)
+    opacity.AddPoint(2.0, last_opacity)
+    return color, opacity
+
+
 class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
     def test_pipeline(self):
         volume = avos.vtkAnalyticVolumeSource()
@@ -26,12 +37,7 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         decimate = avos.vtkOpenMeshDecimation()
         decimate.SetInputConnection(contour.GetOutputPort())
         decimate.SetTargetReduction(0.5)
-        color = vtkColorTransferFunction()
-        color.AddRGBPoint(0.0, 1.0, 0.5, 0.2)
-        color.AddRGBPoint(2.0, 0.2, 0.5, 1.0)
-        opacity = vtkPiecewiseFunction()
-        opacity.AddPoint(0.0, 0.1)
-        opacity.AddPoint(2.0, 0.1)
+        color, opacity = transfer_functions(0.1, 0.1)
         prop = vtkVolumeProperty()
         prop.SetInterpolationTypeToLinear()
         prop.SetColor(color)
@@ -88,12 +94,7 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         surface.SetInputConnection(volume.GetOutputPort())
         surface.SetValue(0, 0.5)
         surface.ComputeNormalsOn()
-        color = vtkColorTransferFunction()
-        color.AddRGBPoint(0.0, 1.0, 0.5, 0.2)
-        color.AddRGBPoint(2.0, 0.2, 0.5, 1.0)
-        opacity = vtkPiecewiseFunction()
-        opacity.AddPoint(0.0, 0.4)
-        opacity.AddPoint(2.0, 0.05)
+        color, opacity = transfer_functions(0.4, 0.05)
         camera = vtkCamera()
         camera.SetPosition(0, 0, 6)
 
