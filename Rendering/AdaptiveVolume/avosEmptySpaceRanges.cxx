@@ -1,7 +1,9 @@
 #include "avosEmptySpaceRanges.h"
 
 #include "vtkDataArray.h"
+#include "vtkObject.h"
 #include "vtkSMPTools.h"
+#include "vtkSetGet.h"
 
 #include <algorithm>
 #include <functional>
@@ -48,17 +50,19 @@ bool EmptySpaceRanges::Update(
   return true;
 }
 
-std::string EmptySpaceRanges::NaNNotice()
+void EmptySpaceRanges::WarnOfNaNs(vtkObject* caller)
 {
   if (this->NaNCount == 0 || this->NaNReported == this->Time.GetMTime())
   {
-    return std::string();
+    return;
   }
   this->NaNReported = this->Time.GetMTime();
-  return "The input has " + std::to_string(this->NaNCount) +
-    (this->Sampled != Samples::Points
-        ? " NaN cell scalars: those cells are rendered transparent."
-        : " NaN scalars: the cells they touch are rendered transparent (with nearest "
-          "interpolation, the regions nearest to them).");
+  vtkWarningWithObjectMacro(caller,
+    << "The input has " << this->NaNCount
+    << (this->Sampled != Samples::Points ? " NaN cell scalars: those cells are rendered "
+                                           "transparent."
+                                         : " NaN scalars: the cells they touch are rendered "
+                                           "transparent (with nearest interpolation, the "
+                                           "regions nearest to them)."));
 }
 }

@@ -13,9 +13,9 @@
 
 #include <array>
 #include <cstddef>
-#include <string>
 
 class vtkDataArray;
+class vtkObject;
 
 namespace avos
 {
@@ -36,10 +36,10 @@ public:
   std::size_t GetNaNCount() const { return this->NaNCount; }
   /// When the ranges were last rebuilt.
   vtkMTimeType GetTime() const { return this->Time.GetMTime(); }
-  /// What the last rebuild's NaN scalars do to the image (every cell with
-  /// a NaN corner is empty), said once: the notice the first time it is
-  /// asked after a rebuild that met some, else empty.
-  std::string NaNNotice();
+  /// Warns on `caller` of what the last rebuild's NaN scalars do to the
+  /// image (every cell with a NaN corner is empty), once: the first call
+  /// after a rebuild that met some; later calls say nothing.
+  void WarnOfNaNs(vtkObject* caller);
 
 private:
   avos::numerics::EmptySpaceMap<double> Map;

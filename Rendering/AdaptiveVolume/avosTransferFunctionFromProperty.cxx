@@ -695,6 +695,32 @@ std::string avos::UnsupportedPropertySettings(
   return std::string();
 }
 
+std::string avos::UnsupportedForComponents(
+  vtkVolumeProperty* property, int components, bool composite)
+{
+  if (components < 2)
+  {
+    return std::string();
+  }
+  const std::string what = "scalars of " + std::to_string(components) + " components";
+  if (!composite)
+  {
+    return "Scalars of " + std::to_string(components) +
+      " components are rendered with the composite blend mode only, not with projections";
+  }
+  if (property && property->GetShade(0))
+  {
+    return "Cannot shade " + what +
+      " (their gradients are not modelled); turn the property's Shade off";
+  }
+  if (property && UsesGradientOpacity(property, 0))
+  {
+    return "Gradient opacity is not supported with " + what +
+      "; disable the property's gradient opacity";
+  }
+  return std::string();
+}
+
 avos::ConversionBudget avos::ConversionBudget::ForTolerance(
   double tolerance, double gain, double longestRay)
 {

@@ -179,6 +179,15 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
   bool gradientOpacity = false);
 
 /**
+ * Empty, or a sentence (no final stop) naming what scalars of `components`
+ * components cannot take with `property`, in both mappers: a projection
+ * (`composite` false), shading and gradient opacity (their gradients are
+ * not modelled). Empty for one component.
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedForComponents(
+  vtkVolumeProperty* property, int components, bool composite);
+
+/**
  * True when the gradient opacity of `component` changes anything: enabled
  * and not the constant 1 that VTK creates on first access (VTK's GPU mapper
  * accesses it).

@@ -489,11 +489,7 @@ bool vtkAdaptiveVolumeMapper::UpdateScalars(vtkVolume* vol)
   // NaN: the field is undefined in every cell with a NaN corner (a NaN
   // cell, a NaN point's nearest region), and each method takes it as empty
   // (transparent). Said once per change of the scalars.
-  const std::string nans = internals.Ranges.NaNNotice();
-  if (!nans.empty())
-  {
-    vtkWarningMacro(<< nans);
-  }
+  internals.Ranges.WarnOfNaNs(this);
   internals.View.Field = field;
   // Bounds of the trilinear field (every component's), and the projections'
   // normalisation.
@@ -512,29 +508,19 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& internals = *this->Internals;
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  const std::string unsupported =
+  std::string unsupported =
     avos::UnsupportedPropertySettings(property, true, true, internals.Components, true);
+  if (unsupported.empty())
+  {
+    unsupported = avos::UnsupportedForComponents(
+      property, internals.Components, this->BlendMode == COMPOSITE_BLEND);
+  }
   if (!unsupported.empty())
   {
     vtkErrorMacro(<< unsupported << ".");
     return false;
   }
-  const bool mixture = internals.Components > 1;
-  if (mixture && this->BlendMode != COMPOSITE_BLEND)
-  {
-    vtkErrorMacro(<< "Scalars of " << internals.Components
-                  << " components are rendered with the composite blend mode only, not with "
-                     "projections.");
-    return false;
-  }
   internals.Shade = property->GetShade(0) != 0;
-  if (mixture && internals.Shade)
-  {
-    vtkErrorMacro(<< "Cannot shade scalars of " << internals.Components
-                  << " components (their gradients are not modelled); turn the property's Shade "
-                     "off.");
-    return false;
-  }
   internals.ShadingKey.clear();
   if (internals.Shade && internals.View.Field != avos::engine::ScalarField::Trilinear)
   {
@@ -641,8 +627,8 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
   {
     return true;
   }
-  const char* refused = internals.Components > 1 ? "scalars of several components"
-    : this->BlendMode != COMPOSITE_BLEND         ? "projections"
+  // (Several components are refused by UpdateProperty.)
+  const char* refused = this->BlendMode != COMPOSITE_BLEND ? "projections"
     : internals.View.Field != avos::engine::ScalarField::Trilinear
     ? "a field constant per cell (it has no gradient)"
     : nullptr;

@@ -148,33 +148,6 @@ std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map, int component = 
   }
 }
 
-// Empty, or why a volume of `components` components cannot be rendered with
-// `property` in `blendMode`: as on the CPU, several components are not
-// shaded, take no gradient opacity and no projection.
-std::string RefusedForComponents(int components, int blendMode, vtkVolumeProperty* property)
-{
-  if (components < 2)
-  {
-    return std::string();
-  }
-  const std::string what = "scalars of " + std::to_string(components) + " components";
-  if (blendMode != vtkVolumeMapper::COMPOSITE_BLEND)
-  {
-    return what + " are rendered with the composite blend mode only, not with projections";
-  }
-  if (property && property->GetShade(0))
-  {
-    return "Cannot shade " + what +
-      " (their gradients are not modelled); turn the property's Shade off";
-  }
-  if (property && avos::UsesGradientOpacity(property, 0))
-  {
-    return "Gradient opacity is not supported with " + what +
-      "; disable the property's gradient opacity";
-  }
-  return std::string();
-}
-
 // The property's transfer function for the scalars into `tf`, within
 // `budget` (TransferFunctionFromProperty). Of several components, the
 // medium of the one that alone shows (the others of weight 0 or
@@ -363,7 +336,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   }
   if (problem.empty())
   {
-    problem = RefusedForComponents(components, this->BlendMode, property);
+    problem = avos::UnsupportedForComponents(
+      property, components, this->BlendMode == vtkVolumeMapper::COMPOSITE_BLEND);
   }
   return problem.empty() ? this->CheckGradientSettings(property) : problem;
 }
@@ -1067,11 +1041,7 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateRanges()
   // NaN, as on the CPU: every cell with a NaN corner is empty (the shader's
   // avos_corners; a sample there is NaN, transparent). Said once per change
   // of the scalars.
-  const std::string nans = internals.Ranges.NaNNotice();
-  if (!nans.empty())
-  {
-    vtkWarningMacro(<< nans);
-  }
+  internals.Ranges.WarnOfNaNs(this);
 }
 
 //------------------------------------------------------------------------------

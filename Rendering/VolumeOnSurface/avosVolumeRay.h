@@ -601,8 +601,8 @@ public:
     return &this->Ranges.GetMap();
   }
 
-  // The NaN scalars' notice, once per change of the scalars (EmptySpaceRanges).
-  std::string NaNNotice() { return this->Ranges.NaNNotice(); }
+  // Warns of NaN scalars once per change of the scalars (EmptySpaceRanges).
+  void WarnOfNaNs(vtkObject* caller) { this->Ranges.WarnOfNaNs(caller); }
 
 private:
   EmptySpaceRanges Ranges;
@@ -618,11 +618,7 @@ inline void UseCaches(vtkObject* caller, VolumeRaySetup& setup, EmptySpaceCache&
   EngineVolume& engineScalars, bool skipping)
 {
   const avos::numerics::EmptySpaceMap<double>* map = emptySpace.Update(setup);
-  const std::string nans = emptySpace.NaNNotice();
-  if (!nans.empty())
-  {
-    vtkWarningWithObjectMacro(caller, << nans);
-  }
+  emptySpace.WarnOfNaNs(caller);
   setup.Map = skipping ? map : nullptr;
   setup.Engine = ReadsEngineScalars(setup)
     ? engineScalars.Update(setup.Scalars, setup.Dimensions, setup.ShownComponent())

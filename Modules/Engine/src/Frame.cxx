@@ -60,26 +60,6 @@ struct IsMixture<an::ComponentVolumes<double, VolumeT>> : std::true_type
 {
 };
 
-// Bytes per scalar of a type.
-int BytesOf(ScalarType type)
-{
-  switch (type)
-  {
-    case ScalarType::Int8:
-    case ScalarType::UInt8:
-      return 1;
-    case ScalarType::Int16:
-    case ScalarType::UInt16:
-      return 2;
-    case ScalarType::Int32:
-    case ScalarType::UInt32:
-    case ScalarType::Float32:
-      return 4;
-    default:
-      return 8;
-  }
-}
-
 // The frame as it is cast: a mixture of which one component alone shows
 // (MixtureTransferFunction::GetSingle, PiecewiseMixture::GetSingle) is
 // that component's medium, so its frame is a single component's, the
@@ -103,7 +83,7 @@ struct Resolved
     {
       return; // (Validate says what is wrong, if anything)
     }
-    this->TheScalars.Data = static_cast<const char*>(scalars.Data) + k * BytesOf(scalars.Type);
+    DispatchScalars(scalars, [&](const auto* data) { this->TheScalars.Data = data + k; });
     this->TheScalars.Stride = scalars.GetStride();
     this->TheScalars.Components = 1;
     this->Method.TF = method.Mixture->GetSingle();
