@@ -26,6 +26,7 @@
 #include "vtkTimeStamp.h"
 #include "vtkUniforms.h"
 #include "vtkVolume.h"
+#include "vtkVolumeInputHelper.h"
 #include "vtkVolumeProperty.h"
 #include "vtk_glew.h"
 
@@ -148,50 +149,104 @@ std::string TexelToScalar(vtkDataArray* scalars, TexelMap& map, int component = 
   }
 }
 
-// The property's transfer function for the scalars into `tf`, within
-// `budget` (TransferFunctionFromProperty). Of several components, the
-// medium of the one that alone shows (the others of weight 0 or
-// transparent; MixtureTransferFunction::GetSingle: its weight in its
-// extinction), its index in `component` (the texture channel the shader
-// reads; 0 for one component). Empty, or why not.
-std::string ConvertTransferFunction(vtkVolumeProperty* property, vtkDataArray* scalars,
-  bool extinction, double voxel, avos::ConversionBudget& budget,
-  avos::numerics::TransferFunction<double>& tf, avos::MixtureFunctions& mixture, int& component)
+// What the shader reads of the property's transfer function for scalars
+// of one or several components.
+struct ShaderMedium
 {
-  const int components = scalars->GetNumberOfComponents();
-  component = 0;
-  if (components == 1)
+  // One medium: the scalars' only component's function, or that of the one
+  // component of several that alone shows (the others of weight 0 or
+  // transparent; MixtureTransferFunction::GetSingle: its weight in its
+  // extinction), read from texture channel Component.
+  avos::numerics::TransferFunction<double> TF;
+  int Component = 0;
+  // Several components that show, or dependent ones: their mixture, every
+  // channel read (Mixed; the sampled methods only).
+  avos::MixtureFunctions Mixture;
+  bool Mixed = false;
+
+  // The functions the shader's pieces hold: TF, or the mixture's (one per
+  // independent component, the one of dependent ones).
+  std::vector<const avos::numerics::TransferFunction<double>*> Functions() const
   {
-    return avos::TransferFunctionFromProperty(property, extinction, voxel, tf, &budget);
+    if (!this->Mixed)
+    {
+      return { &this->TF };
+    }
+    const auto& m = this->Mixture.Mixture;
+    const int n =
+      m.GetMix() == avos::numerics::ComponentMix::Independent ? m.GetNumberOfComponents() : 1;
+    std::vector<const avos::numerics::TransferFunction<double>*> functions;
+    for (int f = 0; f < n; ++f)
+    {
+      functions.push_back(&m.GetFunction(f));
+    }
+    return functions;
   }
-  const std::string error = avos::MixtureFromProperty(
-    property, components, scalars->GetDataType(), extinction, voxel, mixture, &budget);
-  if (!error.empty())
+
+  // The pieces of Functions(), in all.
+  std::size_t PieceCount() const
   {
-    return error;
+    std::size_t count = 0;
+    for (const auto* f : this->Functions())
+    {
+      count += f->GetPieces().size();
+    }
+    return count;
   }
-  const avos::numerics::MixtureTransferFunction<double>& medium = mixture.Mixture;
-  if (!medium.GetSingle())
+
+  // The range of the field the shader reads: the rendered component's, or
+  // every component's.
+  void GetRange(vtkDataArray* scalars, double range[2]) const
   {
-    return "scalars of " + std::to_string(components) +
-      " components are rendered where one component alone shows (the others of weight 0 or "
-      "an opacity of 0 everywhere); in this mixture several show (or the components are "
-      "dependent): vtkAdaptiveVolumeMapper renders it";
+    scalars->GetRange(range, this->Component);
+    for (int k = 0; k < scalars->GetNumberOfComponents() && this->Mixed; ++k)
+    {
+      range[0] = std::min(range[0], scalars->GetRange(k)[0]);
+      range[1] = std::max(range[1], scalars->GetRange(k)[1]);
+    }
   }
-  tf = *medium.GetSingle();
-  component = medium.GetSingleComponent();
-  return std::string();
-}
+
+  // The property's transfer function for the scalars, within `budget`
+  // (TransferFunctionFromProperty; MixtureFromProperty). Empty, or why not.
+  std::string Convert(vtkVolumeProperty* property, vtkDataArray* scalars, bool extinction,
+    double voxel, avos::ConversionBudget& budget)
+  {
+    const int components = scalars->GetNumberOfComponents();
+    this->Component = 0;
+    this->Mixed = false;
+    if (components == 1)
+    {
+      return avos::TransferFunctionFromProperty(property, extinction, voxel, this->TF, &budget);
+    }
+    const std::string error = avos::MixtureFromProperty(
+      property, components, scalars->GetDataType(), extinction, voxel, this->Mixture, &budget);
+    if (!error.empty())
+    {
+      return error;
+    }
+    const avos::numerics::MixtureTransferFunction<double>& medium = this->Mixture.Mixture;
+    if (medium.GetSingle())
+    {
+      this->TF = *medium.GetSingle();
+      this->Component = medium.GetSingleComponent();
+      return std::string();
+    }
+    this->Mixed = true;
+    return std::string();
+  }
+};
 
 // Empty, or why the shader's uniforms cannot hold `pieces` transfer-function
 // pieces (3 vectors each) and `piecewisePieces` piecewise ones (4 each; the
-// shader's knot search takes 12 steps: at most 4096) beside the others.
+// shader's knot searches take 12 steps: at most 4096 of either) beside the
+// others.
 std::string UniformStorageProblem(std::size_t pieces, std::size_t piecewisePieces, bool piecewise)
 {
   GLint vectors = 0;
   glGetIntegerv(GL_MAX_FRAGMENT_UNIFORM_VECTORS, &vectors);
   const std::size_t needed = 3 * pieces + 4 * piecewisePieces;
-  if (static_cast<GLint>(needed) <= vectors - ReservedUniformVectors && piecewisePieces <= 4096)
+  if (static_cast<GLint>(needed) <= vectors - ReservedUniformVectors && pieces <= 4096 &&
+    piecewisePieces <= 4096)
   {
     return std::string();
   }
@@ -215,18 +270,12 @@ void Split(double x, float& hi, float& lo)
 class vtkOpenGLAdaptiveVolumeMapper::vtkInternals
 {
 public:
-  // The property's transfer function, converted again only when the
-  // property, the opacity model, the voxel size, the conversion's budget or
-  // the scalars' number of components change.
-  avos::numerics::TransferFunction<double> TF;
-  // Scalars of several components: their mixture, of which one component
-  // alone must show (the others of weight 0 or transparent everywhere): TF
-  // is that component's medium, its weight in its extinction
-  // (MixtureTransferFunction::GetSingle), and Component the texture channel
-  // the shader reads (0 for one component).
-  avos::MixtureFunctions Mixture;
-  int Component = 0;
-  int TFComponents = 1;            // the scalars' components TF was converted for
+  // The property's transfer function (ShaderMedium), converted again only
+  // when the property, the opacity model, the voxel size, the conversion's
+  // budget or the scalars' components change.
+  ShaderMedium Medium;
+  int TFComponents = 1;            // the scalars' components Medium was converted for
+  int TablesComponents = 0;        // the scalars' components VTK's tables were made for
   vtkMTimeType TFPropertyTime = 0; // 0: not converted (or refused)
   int TFModel = 0;
   double TFVoxel = 0.0;
@@ -559,6 +608,18 @@ void vtkOpenGLAdaptiveVolumeMapper::GPURender(vtkRenderer* ren, vtkVolume* vol)
   this->BlendMode = vtkVolumeMapper::COMPOSITE_BLEND;
   this->Cropping = 0;
   this->ClippingPlanes = nullptr;
+  // VTK makes its lookup tables (one per independent component) when the
+  // property changes, not when the scalars' components do: scalars of more
+  // components would then read tables never made (a crash in VTK 9.1).
+  const int components = this->GetRenderedScalars()->GetNumberOfComponents();
+  if (components != this->Internals->TablesComponents)
+  {
+    for (auto& input : this->AssembledInputs)
+    {
+      input.second.ForceTransferInit();
+    }
+    this->Internals->TablesComponents = components;
+  }
   this->Superclass::GPURender(ren, vol);
   this->BlendMode = blendMode;
   this->Cropping = cropping;
@@ -708,8 +769,8 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
     voxel != internals.TFVoxel || !budget.SameAs(internals.Conversion) ||
     components != internals.TFComponents)
   {
-    error = ConvertTransferFunction(property, scalars, this->OpacityModel == EXTINCTION_OPACITY,
-      voxel, budget, internals.TF, internals.Mixture, internals.Component);
+    error = internals.Medium.Convert(
+      property, scalars, this->OpacityModel == EXTINCTION_OPACITY, voxel, budget);
     internals.TFPropertyTime = error.empty() ? property->GetMTime() : 0;
     internals.TFModel = this->OpacityModel;
     internals.TFVoxel = voxel;
@@ -725,7 +786,14 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
       vtkWarningMacro(<< avos::ApproximationNotice(budget.Approximated) << ".");
     }
   }
-  scalars->GetRange(internals.DataRange, internals.Component);
+  if (piecewise && internals.Medium.Mixed)
+  {
+    return "the GPU's piecewise method renders scalars of several components where one alone "
+           "shows (the others of weight 0 or an opacity of 0 everywhere); in this mixture "
+           "several show (or the components are dependent): take a sampled method (Riemann, "
+           "coupled, decoupled) or vtkAdaptiveVolumeMapper";
+  }
+  internals.Medium.GetRange(scalars, internals.DataRange);
   internals.IntegrationTolerance =
     piecewise ? avos::IntegrationTolerance(this->Tolerance, internals.Conversion) : this->Tolerance;
   // (The additive projection integrates the same pieces at the tolerance.)
@@ -734,7 +802,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
       internals.PiecesTolerance != internals.IntegrationTolerance))
   {
     error = internals.Pieces.Build(
-      internals.TF, avos::numerics::PiecewiseRelativeError(internals.IntegrationTolerance));
+      internals.Medium.TF, avos::numerics::PiecewiseRelativeError(internals.IntegrationTolerance));
     if (!error.empty())
     {
       return error;
@@ -748,7 +816,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   {
     const double r0 = std::max(this->AverageIPScalarRange[0], internals.DataRange[0]);
     const double r1 = std::min(this->AverageIPScalarRange[1], internals.DataRange[1]);
-    error = internals.AverageRange.Build(internals.TF, r0, std::max(r0, r1));
+    error = internals.AverageRange.Build(internals.Medium.TF, r0, std::max(r0, r1));
     if (!error.empty())
     {
       return "unusable average intensity range: " + error;
@@ -756,7 +824,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateTransferFunction(
   }
   const auto* walked = internals.WalkedPieces(this->IntegrationMethod, this->BlendMode);
   return UniformStorageProblem(
-    internals.TF.GetPieces().size(), walked ? walked->GetNumberOfPieces() : 1, piecewise);
+    internals.Medium.PieceCount(), walked ? walked->GetNumberOfPieces() : 1, piecewise);
 }
 
 //------------------------------------------------------------------------------
@@ -766,13 +834,19 @@ void vtkOpenGLAdaptiveVolumeMapper::AddShaderReplacements(vtkOpenGLShaderPropert
   const std::string integrator =
     std::string("//VTK::Shading::Dec\n") + avos::AdaptiveIntegratorGLSL;
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Dec", true, integrator, false);
-  // Directives must precede any declaration: after the version line.
+  // Directives must precede any declaration: after the version line. A
+  // change of them changes the replacement, and VTK rebuilds the shader.
   this->DoublePrecisionRays = this->UseDoublePrecision && GLEW_ARB_gpu_shader_fp64 ? 1 : 0;
-  shaderProperty->AddFragmentShaderReplacement("//VTK::System::Dec", true,
-    this->DoublePrecisionRays ? "//VTK::System::Dec\n#extension GL_ARB_gpu_shader_fp64 : require\n"
-                                "#define AVOS_DOUBLE_PRECISION\n"
-                              : "//VTK::System::Dec\n",
-    false);
+  std::string directives = "//VTK::System::Dec\n";
+  if (this->DoublePrecisionRays)
+  {
+    directives += "#extension GL_ARB_gpu_shader_fp64 : require\n#define AVOS_DOUBLE_PRECISION\n";
+  }
+  if (this->Internals->Medium.Mixed)
+  {
+    directives += "#define AVOS_MIXTURE\n"; // the sampled methods' mixture code
+  }
+  shaderProperty->AddFragmentShaderReplacement("//VTK::System::Dec", true, directives, false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
     "//VTK::Shading::Init\n  avos_castRay();\n"
     "  g_fragColor = avos_result.a < 0.0 ? vec4(1.0, 0.0, 1.0, 1.0) : avos_result;\n"
@@ -795,8 +869,10 @@ void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
 {
   vtkDataArray* scalars = this->GetRenderedScalars();
   TexelMap texels;
-  TexelToScalar(scalars, texels, this->Internals->Component);
-  uniforms->SetUniformi("avos_component", this->Internals->Component);
+  // (Of several components, every channel's texel map is that of the
+  // rendered one: their types' maps do not depend on the range.)
+  TexelToScalar(scalars, texels, this->Internals->Medium.Component);
+  uniforms->SetUniformi("avos_component", this->Internals->Medium.Component);
   uniforms->SetUniformf("avos_texelScale", texels.Scale);
   uniforms->SetUniformf("avos_texelBias", texels.Bias);
   uniforms->SetUniformi("avos_texelRound", texels.Round ? 1 : 0);
@@ -823,12 +899,15 @@ void vtkOpenGLAdaptiveVolumeMapper::SetVolumeUniforms(vtkUniforms* uniforms)
 //------------------------------------------------------------------------------
 void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
 {
+  // The pieces of every function the shader reads, one after the other
+  // (avos_fn*: where each function's lie), and how a mixture mixes them
+  // (avos_mix*; see the shader's transfer-function section).
+  vtkInternals& internals = *this->Internals;
+  const ShaderMedium& medium = internals.Medium;
+  const auto functions = medium.Functions();
+  const int count = static_cast<int>(medium.PieceCount());
   // A new count changes the arrays' declared sizes: removing them first
   // makes VTK rebuild the shader.
-  vtkInternals& internals = *this->Internals;
-  const auto& tf = internals.TF;
-  const auto& pieces = tf.GetPieces();
-  const int count = static_cast<int>(pieces.size());
   if (count != internals.PieceCount)
   {
     uniforms->RemoveUniform("avos_pieceA");
@@ -836,38 +915,65 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
     uniforms->RemoveUniform("avos_pieceS");
     internals.PieceCount = count;
   }
-  std::vector<float> a(4 * count), c(4 * count), s(4 * count);
-  // The core's jump counts, which the shader's avos_hasJumpIn reads as HasJumpIn does.
-  const std::vector<std::size_t>& jumpsBefore = tf.GetJumpsBefore();
-  for (int i = 0; i < count; ++i)
+  std::vector<float> a, c, s;
+  int first[4] = { 0, 0, 0, 0 }, counts[4];
+  float below[4][4], unit[4], jumps[4];
+  for (std::size_t f = 0; f < 4; ++f)
   {
-    const auto& p = pieces[i];
-    a[4 * i] = float(p.Start);
-    a[4 * i + 1] = float(p.Length);
-    a[4 * i + 2] = float(p.Opacity);
-    a[4 * i + 3] = float(p.OpacitySlope);
+    // (Slots past the functions repeat the first: never read.)
+    const auto& tf = *functions[f < functions.size() ? f : 0];
+    const auto& pieces = tf.GetPieces();
+    first[f] = f < functions.size() ? static_cast<int>(a.size() / 4) : 0;
+    counts[f] = static_cast<int>(pieces.size());
+    // The core's jump counts, which the shader's avos_hasJumpInOf reads as HasJumpIn does.
+    const std::vector<std::size_t>& jumpsBefore = tf.GetJumpsBefore();
+    for (std::size_t i = 0; i < pieces.size() && f < functions.size(); ++i)
+    {
+      const auto& p = pieces[i];
+      a.insert(
+        a.end(), { float(p.Start), float(p.Length), float(p.Opacity), float(p.OpacitySlope) });
+      c.insert(c.end(),
+        { float(p.Colour[0]), float(p.Colour[1]), float(p.Colour[2]), float(jumpsBefore[i]) });
+      s.insert(s.end(),
+        { float(p.ColourSlope[0]), float(p.ColourSlope[1]), float(p.ColourSlope[2]), 0.0f });
+    }
+    const auto colourBelow = tf.GetColorBelow();
     for (int k = 0; k < 3; ++k)
     {
-      c[4 * i + k] = float(p.Colour[k]);
-      s[4 * i + k] = float(p.ColourSlope[k]);
+      below[f][k] = float(colourBelow[k]);
     }
-    c[4 * i + 3] = float(jumpsBefore[i]);
-    s[4 * i + 3] = 0.0f;
+    below[f][3] = float(tf.GetOpacityBelow());
+    unit[f] = float(tf.GetUnitDistance());
+    jumps[f] = float(jumpsBefore[pieces.size()]);
   }
   uniforms->SetUniform4fv("avos_pieceA", count, reinterpret_cast<const float(*)[4]>(a.data()));
   uniforms->SetUniform4fv("avos_pieceC", count, reinterpret_cast<const float(*)[4]>(c.data()));
   uniforms->SetUniform4fv("avos_pieceS", count, reinterpret_cast<const float(*)[4]>(s.data()));
-  uniforms->SetUniformi("avos_pieceCount", count);
-  uniforms->SetUniformf("avos_jumpsTotal", float(jumpsBefore[count]));
-  const auto below = tf.GetColorBelow();
-  const float belowValues[4] = { float(below[0]), float(below[1]), float(below[2]),
-    float(tf.GetOpacityBelow()) };
-  uniforms->SetUniform4f("avos_below", belowValues);
-  uniforms->SetUniformi(
-    "avos_alphaModel", tf.GetOpacityModel() == avos::numerics::OpacityModel::Alpha ? 1 : 0);
+  uniforms->SetUniform1iv("avos_fnFirst", 4, first);
+  uniforms->SetUniform1iv("avos_fnCount", 4, counts);
+  uniforms->SetUniform4fv("avos_fnBelow", 4, below);
+  uniforms->SetUniform4f("avos_fnUnit", unit);
+  uniforms->SetUniform4f("avos_fnJumpsTotal", jumps);
+  const auto& mixture = medium.Mixture.Mixture;
+  using Mix = avos::numerics::ComponentMix;
+  const int kind = !medium.Mixed             ? 0
+    : mixture.GetMix() == Mix::Independent   ? 1
+    : mixture.GetMix() == Mix::ColourOpacity ? 2
+                                             : 3;
+  uniforms->SetUniformi("avos_mixKind", kind);
+  uniforms->SetUniformi("avos_mixCount", medium.Mixed ? mixture.GetNumberOfComponents() : 1);
+  float weights[4];
+  for (int k = 0; k < 4; ++k)
+  {
+    weights[k] = medium.Mixed ? float(mixture.GetWeight(k)) : 1.0f;
+  }
+  uniforms->SetUniform4f("avos_mixWeight", weights);
+  uniforms->SetUniformf("avos_mixScale", medium.Mixed ? float(mixture.GetScale()) : 1.0f);
+  uniforms->SetUniformi("avos_alphaModel",
+    functions[0]->GetOpacityModel() == avos::numerics::OpacityModel::Alpha ? 1 : 0);
   this->SetPiecewiseUniforms(uniforms);
-  uniforms->SetUniformf("avos_unitDistance", float(tf.GetUnitDistance()));
-  uniforms->SetUniformf("avos_maximumColour", float(tf.GetMaximumColor()));
+  uniforms->SetUniformf("avos_maximumColour",
+    float(medium.Mixed ? mixture.GetMaximumColor() : medium.TF.GetMaximumColor()));
 }
 
 //------------------------------------------------------------------------------
@@ -1037,7 +1143,8 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateRanges()
   vtkInternals& internals = *this->Internals;
   internals.Ranges.Update(this->GetRenderedScalars(),
     vtkImageData::SafeDownCast(this->GetInput())->GetDimensions(),
-    avos::SamplesOf(internals.ScalarField), internals.Component);
+    avos::SamplesOf(internals.ScalarField),
+    internals.Medium.Mixed ? -1 : internals.Medium.Component);
   // NaN, as on the CPU: every cell with a NaN corner is empty (the shader's
   // avos_corners; a sample there is NaN, transparent). Said once per change
   // of the scalars.
@@ -1059,7 +1166,16 @@ void vtkOpenGLAdaptiveVolumeMapper::UpdateBlocks(
     if (!internals.BlocksHoldMap || internals.BlocksRangesTime != internals.Ranges.GetTime() ||
       internals.BlocksTime < internals.TFTime || blocks->GetHandle() == 0)
     {
-      map.Classify(internals.TF);
+      const ShaderMedium& medium = internals.Medium;
+      if (medium.Mixed)
+      {
+        map.ClassifyBlocks([&medium](const double* lo, const double* hi)
+          { return medium.Mixture.Mixture.IsVisible(lo, hi); });
+      }
+      else
+      {
+        map.Classify(medium.TF);
+      }
       std::vector<unsigned char> visible;
       visible.reserve(map.GetNumberOfBlocks());
       for (int z = 0; z < map.GetNumberOfBlocks(2); ++z)

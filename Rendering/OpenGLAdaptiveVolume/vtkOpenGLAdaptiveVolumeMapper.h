@@ -84,10 +84,13 @@
  * double), read back exactly for 8- and 16-bit integers and for wider ones
  * whose range spans at most 2^20 (within float's rounding of the range
  * otherwise and for double, which VTK scales onto [0, 1] in float); 2 to 4
- * independent components (8- and 16-bit integers, float) of which one alone
- * shows, the others of weight 0 or transparent, rendered as the CPU mapper
- * casts them (that component's channel with its transfer function, its
- * weight in its extinction; the composite blend, unshaded); the
+ * components (8- and 16-bit integers, float) in the composite blend,
+ * unshaded, as the CPU mapper renders them: where one alone shows (the
+ * others of weight 0 or transparent), by every method, that component's
+ * channel with its transfer function, its weight in its extinction; their
+ * mixture (numerics::MixtureTransferFunction: independent ones' extinctions
+ * and emissions added, the dependent colour-and-opacity pair and RGBA) by
+ * the sampled methods, every channel read at each sample; the
  * blend modes above (all of vtkVolumeMapper's but the isosurface and
  * slice blends), clipping planes, cropping, linear and nearest interpolation, 1D
  * transfer functions, shading in the sampled methods (Riemann, coupled,
@@ -102,8 +105,9 @@
  * to 128 pieces), as on the CPU. Refused with an error and nothing
  * drawn (never ignored): signed 8- and 16-bit scalars that reach -128 or
  * -32768 (VTK's normalised texture reads them as the next value up), other
- * scalar types, several components of which several show or dependent ones
- * (vtkAdaptiveVolumeMapper renders them), the isosurface and slice blends, the
+ * scalar types, several components of which several show, or dependent
+ * ones, in the piecewise method (vtkAdaptiveVolumeMapper integrates them),
+ * the isosurface and slice blends, the
  * piecewise method and the additive and average projections without fp64,
  * cropping an input with a direction matrix or negative spacing, more than
  * 6 clipping planes or one with a transform, masks, jittering, the depth

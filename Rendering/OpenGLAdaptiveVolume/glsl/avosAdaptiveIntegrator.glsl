@@ -19,14 +19,16 @@
 // the searches by log2 of the knot count.
 
 // ---------------------------------------------------------------- the field
-// Grid point value: the texel's channel avos_component (of several
-// components, the one rendered) as uploaded by VTK (normalised for integer
-// types, scaled onto [0, 1] for 32- and 64-bit ones) mapped back to the
-// data's scalar (the mapper's TexelMap), rounded to the integer it was for
-// integer data: exact for them.
+// Grid point value: the texel's channel avos_channel (of several
+// components, the one being read) as uploaded by VTK (normalised for
+// integer types, scaled onto [0, 1] for 32- and 64-bit ones) mapped back to
+// the data's scalar (the mapper's TexelMap), rounded to the integer it was
+// for integer data: exact for them.
+int avos_channel; // avos_component, or each of a mixture's in turn (avos_sample)
+
 float avos_texel(ivec3 p)
 {
-  float v = texelFetch(in_volume[0], p, 0)[avos_component] * avos_texelScale + avos_texelBias;
+  float v = texelFetch(in_volume[0], p, 0)[avos_channel] * avos_texelScale + avos_texelBias;
   return avos_texelRound != 0 ? round(v) : v;
 }
 
@@ -183,25 +185,61 @@ float avos_trilinear(float c[8], vec3 f)
 }
 
 // ------------------------------------------------------ the transfer function
-// Pieces between consecutive knots of either function (TransferFunction's
-// Piece): avos_pieceA = (start, length, opacity, opacity slope),
-// avos_pieceC = (colour, jumps among the knots before this one),
-// avos_pieceS = (colour slope, 0); avos_below = (colour, opacity) below the
-// first knot.
+// Pieces between consecutive knots of either function of a transfer
+// function (TransferFunction's Piece): avos_pieceA = (start, length,
+// opacity, opacity slope), avos_pieceC = (colour, jumps among its knots
+// before this one), avos_pieceS = (colour slope, 0). Function f's pieces are
+// avos_piece*[avos_fnFirst[f], avos_fnFirst[f] + avos_fnCount[f]), its
+// colour and opacity below its first knot avos_fnBelow[f], its unit
+// distance avos_fnUnit[f], its jump count avos_fnJumpsTotal[f]. Function 0
+// is the one medium's where avos_mixKind is 0; a mixture's
+// (numerics::MixtureTransferFunction) are: 1, independent components,
+// component k through function k with weight avos_mixWeight[k]; 2, the
+// colour of s_0 and the opacity of s_1 through function 0; 3, the colour
+// (s_0, s_1, s_2) times avos_mixScale and the opacity of s_3 through
+// function 0. The mapper defines AVOS_MIXTURE for a mixture only: a sample
+// of one medium then reads one channel (llvmpipe runs both sides of a
+// branch, so the mixture's code in the sampled methods would cost every
+// medium four reads of the cell and four transfer-function searches).
 
-// The last piece starting at or below s; -1 below the first knot or for NaN.
-int avos_locate(float s)
+// The last piece of function f starting at or below s; -1 below its first
+// knot or for NaN. A binary search; for a mixture, whose every sample
+// searches each component's function, one of a fixed 12 steps written out
+// (a function has at most 4096 pieces: the mapper's UniformStorageProblem),
+// as llvmpipe counts each iteration of a loop it keeps against its limit
+// (see avos_castRay).
+#define AVOS_LOCATE_IN_STEP(k)                                                                     \
+  next = lo + k;                                                                                   \
+  lo = next < count && avos_pieceA[first + min(next, count - 1)].x <= s ? next : lo;
+int avos_locateIn(int f, float s)
 {
-  if (!(s >= avos_pieceA[0].x))
+  int first = avos_fnFirst[f];
+  if (!(s >= avos_pieceA[first].x))
   {
     return -1;
   }
+  int count = avos_fnCount[f];
   int lo = 0;
-  int hi = avos_pieceCount - 1;
+#ifdef AVOS_MIXTURE
+  int next;
+  AVOS_LOCATE_IN_STEP(2048)
+  AVOS_LOCATE_IN_STEP(1024)
+  AVOS_LOCATE_IN_STEP(512)
+  AVOS_LOCATE_IN_STEP(256)
+  AVOS_LOCATE_IN_STEP(128)
+  AVOS_LOCATE_IN_STEP(64)
+  AVOS_LOCATE_IN_STEP(32)
+  AVOS_LOCATE_IN_STEP(16)
+  AVOS_LOCATE_IN_STEP(8)
+  AVOS_LOCATE_IN_STEP(4)
+  AVOS_LOCATE_IN_STEP(2)
+  AVOS_LOCATE_IN_STEP(1)
+#else
+  int hi = count - 1;
   while (lo < hi)
   {
     int mid = (lo + hi + 1) / 2;
-    if (avos_pieceA[mid].x <= s)
+    if (avos_pieceA[first + mid].x <= s)
     {
       lo = mid;
     }
@@ -210,7 +248,13 @@ int avos_locate(float s)
       hi = mid - 1;
     }
   }
-  return lo;
+#endif
+  return first + lo;
+}
+
+int avos_locate(float s)
+{
+  return avos_locateIn(0, s);
 }
 
 // -ln(1 - a) with the rounding of 1 - a corrected (log1p's classic trick):
@@ -240,7 +284,7 @@ float avos_oneMinusExp(float x)
   return 1.0 - exp(-x);
 }
 
-float avos_toExtinction(float value)
+float avos_toExtinctionIn(int f, float value)
 {
   if (avos_alphaModel == 0)
   {
@@ -248,20 +292,25 @@ float avos_toExtinction(float value)
   }
   if (value >= 1.0)
   {
-    return avos_opaqueExtinction / avos_unitDistance;
+    return avos_opaqueExtinction / avos_fnUnit[f];
   }
-  return min(avos_minusLog1m(value), avos_opaqueExtinction) / avos_unitDistance;
+  return min(avos_minusLog1m(value), avos_opaqueExtinction) / avos_fnUnit[f];
 }
 
-// The opacity function's own value at s (tau or alpha, as the model reads
-// it) and the colour there on piece i (avos_locate's; -1: below the first
+float avos_toExtinction(float value)
+{
+  return avos_toExtinctionIn(0, value);
+}
+
+// Function f's own opacity value at s (tau or alpha, as the model reads
+// it) and the colour there on piece i (avos_locateIn's; -1: below the first
 // knot).
-void avos_pieceAt(int i, float s, out float opacity, out vec3 colour)
+void avos_pieceAtIn(int f, int i, float s, out float opacity, out vec3 colour)
 {
   if (i < 0)
   {
-    opacity = avos_below.w;
-    colour = avos_below.rgb;
+    opacity = avos_fnBelow[f].w;
+    colour = avos_fnBelow[f].rgb;
     return;
   }
   vec4 a = avos_pieceA[i];
@@ -270,8 +319,13 @@ void avos_pieceAt(int i, float s, out float opacity, out vec3 colour)
   colour = avos_pieceC[i].rgb + avos_pieceS[i].rgb * d;
 }
 
+void avos_pieceAt(int i, float s, out float opacity, out vec3 colour)
+{
+  avos_pieceAtIn(0, i, s, opacity, colour);
+}
+
 // The same at s: TransferFunction's GetOpacityValue and GetColor.
-void avos_lookUp(float s, out float opacity, out vec3 colour)
+void avos_lookUpIn(int f, float s, out float opacity, out vec3 colour)
 {
   if (isnan(s))
   {
@@ -279,38 +333,107 @@ void avos_lookUp(float s, out float opacity, out vec3 colour)
     colour = vec3(0.0);
     return;
   }
-  avos_pieceAt(avos_locate(s), s, opacity, colour);
+  avos_pieceAtIn(f, avos_locateIn(f, s), s, opacity, colour);
+}
+
+void avos_lookUp(float s, out float opacity, out vec3 colour)
+{
+  avos_lookUpIn(0, s, opacity, colour);
+}
+
+void avos_classifyIn(int f, float s, out float tau, out vec3 colour)
+{
+  float opacity;
+  avos_lookUpIn(f, s, opacity, colour);
+  tau = avos_toExtinctionIn(f, opacity);
 }
 
 void avos_classify(float s, out float tau, out vec3 colour)
 {
-  float opacity;
-  avos_lookUp(s, opacity, colour);
-  tau = avos_toExtinction(opacity);
+  avos_classifyIn(0, s, tau, colour);
 }
 
-float avos_jumpsBefore(int k)
+// MixtureTransferFunction::Classify: tau and the colour of the medium at
+// the components' values s. (The loops over the components here and in
+// avos_sample and avos_estimateScale are written out, as avos_locateIn's.)
+#define AVOS_MIX_ADD(k)                                                                            \
+  if (k < avos_mixCount && avos_mixWeight[k] > 0.0)                                                \
+  {                                                                                                \
+    float t;                                                                                       \
+    vec3 c;                                                                                        \
+    avos_classifyIn(k, s[k], t, c);                                                                \
+    tau += avos_mixWeight[k] * t;                                                                  \
+    emission += (avos_mixWeight[k] * t) * c;                                                       \
+  }
+void avos_classifyMixture(vec4 s, out float tau, out vec3 colour)
 {
-  return k < avos_pieceCount ? avos_pieceC[k].w : avos_jumpsTotal;
+  tau = 0.0;
+  colour = vec3(0.0);
+  if (avos_mixKind == 1)
+  {
+    vec3 emission = vec3(0.0);
+    AVOS_MIX_ADD(0)
+    AVOS_MIX_ADD(1)
+    AVOS_MIX_ADD(2)
+    AVOS_MIX_ADD(3)
+    if (tau > 0.0)
+    {
+      colour = emission / tau;
+    }
+    return;
+  }
+  float t;
+  vec3 c;
+  avos_classifyIn(0, avos_mixKind == 2 ? s[1] : s[3], t, c);
+  vec3 rgb = avos_mixKind == 2 ? vec3(0.0) : s.xyz * avos_mixScale;
+  if (avos_mixKind == 2 && !isnan(s[0]))
+  {
+    float opacity;
+    avos_lookUpIn(0, s[0], opacity, colour);
+    tau = t;
+  }
+  else if (avos_mixKind == 3 && !isnan(rgb.x + rgb.y + rgb.z))
+  {
+    tau = t;
+    colour = rgb;
+  }
 }
 
-// A jump of C or tau at a scalar in (lo, hi).
-bool avos_hasJumpIn(float lo, float hi)
+float avos_jumpsBeforeIn(int f, int k)
 {
-  int first = avos_locate(lo) + 1;
-  int end = avos_locate(hi) + 1;
-  if (end > 0 && avos_pieceA[end - 1].x == hi)
+  return k < avos_fnFirst[f] + avos_fnCount[f] ? avos_pieceC[k].w : avos_fnJumpsTotal[f];
+}
+
+// A jump of function f's C or tau at a scalar in (lo, hi).
+bool avos_hasJumpInOf(int f, float lo, float hi)
+{
+  int first = avos_locateIn(f, lo);
+  int end = avos_locateIn(f, hi);
+  first = first < 0 ? avos_fnFirst[f] : first + 1;
+  end = end < 0 ? avos_fnFirst[f] : end + 1;
+  if (end > avos_fnFirst[f] && avos_pieceA[end - 1].x == hi)
   {
     --end;
   }
-  return end > first && avos_jumpsBefore(end) > avos_jumpsBefore(first);
+  return end > first && avos_jumpsBeforeIn(f, end) > avos_jumpsBeforeIn(f, first);
 }
 
-// A kink or a jump at a scalar in (lo, hi).
+bool avos_hasJumpIn(float lo, float hi)
+{
+  return avos_hasJumpInOf(0, lo, hi);
+}
+
+// A kink or a jump of function f at a scalar in (lo, hi).
+bool avos_hasKnotInOf(int f, float lo, float hi)
+{
+  int next = avos_locateIn(f, lo);
+  next = next < 0 ? avos_fnFirst[f] : next + 1;
+  return next < avos_fnFirst[f] + avos_fnCount[f] && avos_pieceA[next].x < hi;
+}
+
 bool avos_hasKnotIn(float lo, float hi)
 {
-  int next = avos_locate(lo) + 1;
-  return next < avos_pieceCount && avos_pieceA[next].x < hi;
+  return avos_hasKnotInOf(0, lo, hi);
 }
 
 // ----------------------------------------------------------------- the ray
@@ -325,6 +448,9 @@ int avos_samples; // transfer-function evaluations of this ray
 struct avos_Sample
 {
   float Scalar;
+#ifdef AVOS_MIXTURE
+  vec4 Scalars; // the components'
+#endif
   float Tau;
   vec3 Colour;
 };
@@ -470,6 +596,16 @@ float avos_gradientFactor(float g)
   return clamp(p.z + p.w * clamp(g - p.x, 0.0, p.y), 0.0, 1.0);
 }
 
+#ifdef AVOS_MIXTURE
+#define AVOS_MIX_READ(k)                                                                           \
+  if (k < avos_mixCount)                                                                           \
+  {                                                                                                \
+    avos_channel = k;                                                                              \
+    avos_cornerValues(cell, c);                                                                    \
+    s.Scalars[k] = avos_trilinear(c, f);                                                           \
+  }
+#endif
+
 // The sample at t: its scalar, extinction (times G with gradient opacity)
 // and colour (lit when shading).
 avos_Sample avos_sample(avos_real t)
@@ -481,6 +617,21 @@ avos_Sample avos_sample(avos_real t)
   vec3 f;
   avos_cellAt(g, cell, f);
   float c[8];
+#ifdef AVOS_MIXTURE
+  if (avos_mixKind != 0)
+  {
+    // Each component's field (its channel in turn), the medium of them all
+    // (unshaded, without gradient opacity: the mapper refuses those).
+    s.Scalars = vec4(0.0);
+    AVOS_MIX_READ(0)
+    AVOS_MIX_READ(1)
+    AVOS_MIX_READ(2)
+    AVOS_MIX_READ(3)
+    s.Scalar = s.Scalars[0];
+    avos_classifyMixture(s.Scalars, s.Tau, s.Colour);
+    return s;
+  }
+#endif
   avos_cornerValues(cell, c);
   s.Scalar = avos_trilinear(c, f);
   avos_classify(s.Scalar, s.Tau, s.Colour);
@@ -740,14 +891,57 @@ void avos_halve(inout avos_Bracket b)
   b.S[3] = avos_sample(b.U + avos_real(0.75) * b.K);
 }
 
+#ifdef AVOS_MIXTURE
+// The factor for component k of a mixture through function f: its scalars'
+// range as avos_estimateScale widens it (SimpsonErrorScale).
+float avos_componentScale(avos_Bracket b, int k, int f)
+{
+  float lo = b.S[0].Scalars[k];
+  float hi = lo;
+  float spread = 0.0;
+  for (int i = 1; i < 5; ++i)
+  {
+    lo = min(lo, b.S[i].Scalars[k]);
+    hi = max(hi, b.S[i].Scalars[k]);
+    spread = max(spread, abs(b.S[i].Scalars[k] - b.S[i - 1].Scalars[k]));
+  }
+  lo = max(lo - spread, avos_fieldRange.x);
+  hi = min(hi + spread, avos_fieldRange.y);
+  if (!(lo == lo && hi == hi && lo < hi))
+  {
+    return 1.0;
+  }
+  return avos_hasJumpInOf(f, lo, hi) ? 15.0 : (avos_hasKnotInOf(f, lo, hi) ? 5.0 : 1.0);
+}
+
+#define AVOS_MIX_SCALE(k)                                                                          \
+  if (k < avos_mixCount && (avos_mixKind != 1 || avos_mixWeight[k] > 0.0) &&                       \
+    !(avos_mixKind == 3 && k < 3))                                                                 \
+  {                                                                                                \
+    b.Scale = max(b.Scale, avos_componentScale(b, k, avos_mixKind == 1 ? k : 0));                  \
+  }
+#endif
+
 // Simpson's estimate assumes a smooth integrand: 15 across a jump of the
-// transfer function, 5 across a kink, 1 otherwise (Bracket::EstimateScale).
+// transfer function, 5 across a kink, 1 otherwise (Bracket::EstimateScale);
+// a mixture's, the largest over the components it reads through a function.
 float avos_estimateScale(inout avos_Bracket b)
 {
   if (b.Scale > 0.0)
   {
     return b.Scale;
   }
+#ifdef AVOS_MIXTURE
+  if (avos_mixKind != 0)
+  {
+    b.Scale = 1.0;
+    AVOS_MIX_SCALE(0)
+    AVOS_MIX_SCALE(1)
+    AVOS_MIX_SCALE(2)
+    AVOS_MIX_SCALE(3)
+    return b.Scale;
+  }
+#endif
   float lo = b.S[0].Scalar;
   float hi = lo;
   float spread = 0.0;
@@ -2225,6 +2419,7 @@ bool avos_wholeVolume()
 // failed ray (alpha -1), never drawn from a block.
 void avos_castRay()
 {
+  avos_channel = avos_component;
   avos_samples = 0;
   avos_attempts = 0;
   avos_result = vec4(0.0);

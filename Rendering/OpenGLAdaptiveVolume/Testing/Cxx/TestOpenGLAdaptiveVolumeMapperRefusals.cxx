@@ -299,12 +299,21 @@ int TestOpenGLAdaptiveVolumeMapperRefusals(int, char*[])
   vtkNew<vtkImageAppendComponents> twoComponents;
   twoComponents->AddInputConnection(source->GetOutputPort());
   twoComponents->AddInputConnection(source->GetOutputPort());
-  // Two components that both show (the same functions on both); a second
-  // component of opacity 0 renders (TestOpenGLAdaptiveVolumeMapperPython).
+  // Two components that both show (the same functions on both) in the
+  // piecewise method; the sampled methods render them, and every method a
+  // second component of opacity 0 (TestOpenGLAdaptiveVolumeMapperPython).
   refused(
-    "two visible components", "in this mixture several show",
-    [&] { mapper->SetInputConnection(twoComponents->GetOutputPort()); },
-    [&] { mapper->SetInputConnection(source->GetOutputPort()); });
+    "two visible components, piecewise", "in this mixture several show",
+    [&]
+    {
+      mapper->SetInputConnection(twoComponents->GetOutputPort());
+      mapper->SetIntegrationMethodToPiecewiseAdaptive();
+    },
+    [&]
+    {
+      mapper->SetInputConnection(source->GetOutputPort());
+      mapper->SetIntegrationMethodToAdaptiveCoupled();
+    });
   vtkNew<vtkImageShiftScale> toDouble;
   toDouble->SetInputConnection(source->GetOutputPort());
   toDouble->SetOutputScalarTypeToDouble();

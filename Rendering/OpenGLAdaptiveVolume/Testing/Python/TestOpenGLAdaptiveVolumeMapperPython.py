@@ -6,7 +6,8 @@ intensity projections are the CPU mapper's (both exact); its piecewise
 method certifies ParaView's default colour map within eps of the exact
 integral; clipping planes and cropping cut its rays where they cut the CPU
 mapper's; it reads signed, 32-bit and double scalars, nearest
-interpolation, cell scalars, NaN and one component of several, and shades,
+interpolation, cell scalars, NaN, one component of several and mixtures of
+several in the sampled methods, and shades,
 scales by gradient opacity and projects additively or by the average as the
 CPU mapper does; a bad tolerance is refused and draws nothing."""
 
@@ -111,19 +112,21 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         self.render(cpu)
         return cpu.GetRenderedImage().GetPointData().GetScalars()
 
-    def gpuDifference(self, configure, expected, warningCount=0):
+    def gpuDifference(self, configure, expected, warningCount=0, firstSource=None):
         """The largest difference over pixels and RGBA between the GPU's float
         image (the mapper set up by configure) and `expected`, and the pixels
         expected covers; warningCount warnings must be emitted (none by
-        default)."""
+        default). With firstSource, the mapper first renders it in the same
+        window (its shader then built for that input)."""
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
-        gpu.SetInputConnection(self.source.GetOutputPort())
+        gpu.SetInputConnection((firstSource or self.source).GetOutputPort())
         configure(gpu)
         gpu.SetRenderToImage(1)
         gpu.SetDepthImageScalarTypeToFloat()
         warnings = []
         gpu.AddObserver(vtkCommand.WarningEvent, lambda caller, event: warnings.append(event))
         self.window = self.render(gpu)  # the images live in its context
+        gpu.SetInputConnection(self.source.GetOutputPort())
         worst, covered = 0.0, 0
         for channel in range(4):
             gpu.SetImageQuantity(avos.vtkOpenGLAdaptiveVolumeMapper.RED + channel)
@@ -462,6 +465,75 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
                 worst, covered = self.gpuDifference(gpu, self.cpuImage(cpu))
                 self.assertGreater(covered, SIZE * SIZE // 16, name + ", " + case)
                 self.assertLessEqual(worst, bound, name + ", " + case)
+
+    def shiftScale(self, shift, scale, scalarType):
+        part = vtkImageShiftScale()
+        part.SetInputConnection(self.source.GetOutputPort())
+        part.SetShift(shift)
+        part.SetScale(scale)
+        part.SetOutputScalarType(getattr(vtkCommonCore, "VTK_" + scalarType))
+        return part
+
+    def testMixturesAsTheCPUMapper(self):
+        # Several components that show, in the sampled methods: each sample
+        # reads every component's channel and classifies them together
+        # (numerics::MixtureTransferFunction), as the CPU mapper samples them:
+        # the Riemann sum as the CPU's (float against double), the coupled
+        # rule within eps of it. Independent components of different
+        # functions and weights (float), the dependent pair (colour of the
+        # first, opacity of the second) and RGBA (unsigned char). The
+        # piecewise method refuses them. For the independent ones the mapper
+        # renders one component first: its shader, built without the
+        # mixture's code, must be rebuilt for the mixture.
+        color = vtkColorTransferFunction()
+        color.AddRGBPoint(0.0, 1.0, 0.2, 0.1)
+        color.AddRGBPoint(1.0, 0.1, 0.9, 0.3)
+        shell = vtkPiecewiseFunction()
+        shell.AddPoint(0.0, 0.0)
+        shell.AddPoint(0.3, 0.5)
+        shell.AddPoint(0.6, 0.0)
+        ramp = vtkPiecewiseFunction()
+        ramp.AddPoint(0.0, 0.0)
+        ramp.AddPoint(255.0, 0.5)
+
+        def independent():
+            self.prop.SetColor(1, color)
+            self.prop.SetScalarOpacity(1, shell)
+            self.prop.SetComponentWeight(1, 0.7)
+            return (self.shiftScale(0.0, 1.0, "FLOAT"), self.shiftScale(-1.0, -1.0, "FLOAT"))
+
+        def dependent():
+            self.prop.IndependentComponentsOff()
+            return (self.shiftScale(-1.0, -1.0, "FLOAT"), self.shiftScale(0.0, 1.0, "FLOAT"))
+
+        def rgba():
+            self.prop.IndependentComponentsOff()
+            self.prop.SetScalarOpacity(ramp)
+            return (self.shiftScale(0.0, 255.0, "UNSIGNED_CHAR"),
+                    self.shiftScale(-1.0, -255.0, "UNSIGNED_CHAR"),
+                    self.shiftScale(0.0, 127.0, "UNSIGNED_CHAR"),
+                    self.shiftScale(0.0, 255.0, "UNSIGNED_CHAR"))
+
+        for name, make in (("independent", independent), ("colour and opacity", dependent),
+                           ("RGBA", rgba)):
+            self.setUp()
+            first = self.shiftScale(0.0, 1.0, "FLOAT") if make == independent else None
+            tuples = vtkImageAppendComponents()
+            for part in make():
+                tuples.AddInputConnection(part.GetOutputPort())
+            self.source = tuples
+            for method, configure, bound in self.sampledCases():
+                worst, covered = self.gpuDifference(configure, self.cpuImage(configure),
+                                                    firstSource=first)
+                self.assertGreater(covered, SIZE * SIZE // 16, name + ", " + method)
+                self.assertLessEqual(worst, bound, name + ", " + method)
+            gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
+            gpu.SetInputConnection(self.source.GetOutputPort())
+            gpu.SetIntegrationMethodToPiecewiseAdaptive()
+            errors = []
+            gpu.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: errors.append(event))
+            self.render(gpu)
+            self.assertEqual(len(errors), 1, name + ": the piecewise method refuses")
 
     def testRefusesABadTolerance(self):
         gpu = avos.vtkOpenGLAdaptiveVolumeMapper()
