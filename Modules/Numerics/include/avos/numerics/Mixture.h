@@ -646,7 +646,8 @@ public:
 
 private:
   // int_0^l E_c, E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), by 7-point
-  // Gauss-Legendre (the nodes of a term in independent chains).
+  // Gauss-Legendre (the nodes of a term in independent chains; a term's sum
+  // of weights and, of one colour scalar, its moment serve every channel).
   glm::vec<3, Real> EmissionIntegrals(const PieceTerm<Real>* terms, int count) const
   {
     using G = GaussLegendre<Real>;
@@ -661,22 +662,27 @@ private:
     {
       const auto& e = *terms[t].Extinction;
       const PieceColour<Real>& pc = terms[t].Colour;
-      Real wtau[7];
+      Real wtau[7], sum = Real(0);
       for (int i = 0; i < 7; ++i)
       {
         const Real d = terms[t].D(v[i]);
         wtau[i] = G::W7[i] * (e.Tau + d * (e.TauSlope + d * (e.TauCurvature + d * e.TauCubic)));
+        sum += wtau[i];
+      }
+      Real moment[3];
+      for (int c = 0; c < pc.Sources; ++c)
+      {
+        const Cubic<Real>& x = pc.X[c];
+        moment[c] = Real(0);
+        for (int i = 0; i < 7; ++i)
+        {
+          moment[c] += wtau[i] * x(v[i]);
+        }
       }
       for (int c = 0; c < 3; ++c)
       {
-        const Cubic<Real>& x = pc.Of(c);
-        Real sum = Real(0), moment = Real(0);
-        for (int i = 0; i < 7; ++i)
-        {
-          sum += wtau[i];
-          moment += wtau[i] * x(v[i]);
-        }
-        whole[c] += terms[t].Weight * (pc.A[c] * sum + pc.B[c] * moment);
+        const Real m = moment[pc.Sources == 1 ? 0 : c];
+        whole[c] += terms[t].Weight * (pc.A[c] * sum + pc.B[c] * m);
       }
     }
     return whole * half;
