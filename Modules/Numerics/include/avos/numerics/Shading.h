@@ -341,6 +341,14 @@ TaylorModel<Real, N> Either(const TaylorModel<Real, N>& a, const TaylorModel<Rea
 {
   return Hull(a, b);
 }
+
+// x times the constant w, x itself where w is 1 (a model's product adds its
+// rounding to the remainder).
+template <typename T, typename Real>
+T Scaled(const T& x, Real w)
+{
+  return w == Real(1) ? x : x * w;
+}
 } // namespace detail
 
 namespace detail
@@ -426,26 +434,34 @@ template <typename Real, typename T, typename Gradient>
 void LitColourOf(const ShadingModel<Real>& model, const T colour[3], const Gradient& gradient,
   const glm::vec<3, Real>& toViewer, const T* position, T lit[3])
 {
-  T ambient[3];
-  for (int c = 0; c < 3; ++c)
-  {
-    ambient[c] = model.Ambient * colour[c];
-  }
   const T squared = gradient.Squared();
   const detail::Sign sign = gradient.SignOf(squared);
   if (sign == detail::Sign::Zero)
   {
     for (int c = 0; c < 3; ++c)
     {
-      lit[c] = detail::Clamp01(ambient[c]);
+      lit[c] = detail::Clamp01(model.Ambient * colour[c]);
     }
     return;
   }
   const T inverse = detail::InverseSqrt(squared);
+  // The lights' diffuse and specular sums per channel: one for every channel
+  // where each light is grey (VTK's are white unless coloured), as a model
+  // costs an operation per channel and term.
+  const bool grey = std::all_of(model.Lights.begin(), model.Lights.end(),
+    [](const Light<Real>& light)
+    {
+      const glm::vec<3, Real>& d = light.Diffuse;
+      const glm::vec<3, Real>& s = light.Specular;
+      return d.x == d.y && d.y == d.z && s.x == s.y && s.y == s.z;
+    });
+  const int channels = grey ? 1 : 3;
   T diffuse[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
   T specular[3] = { T(Real(0)), T(Real(0)), T(Real(0)) };
+  bool first = true;
   for (const Light<Real>& light : model.Lights)
   {
+    T diffuseTerm, specularTerm;
     if (light.Positional)
     {
       T g[3], l[3], attenuation;
@@ -457,34 +473,43 @@ void LitColourOf(const ShadingModel<Real>& model, const T colour[3], const Gradi
       const T half[3] = { l[0] + toViewer.x, l[1] + toViewer.y, l[2] + toViewer.z };
       const T highlight = detail::FacingPower(
         detail::HalfwayFacing<Real>(n, half, model.TwoSided), model.SpecularPower);
-      const T diffuseTerm = attenuation * nl, specularTerm = attenuation * highlight;
-      for (int c = 0; c < 3; ++c)
-      {
-        diffuse[c] = diffuse[c] + diffuseTerm * light.Diffuse[c];
-        specular[c] = specular[c] + specularTerm * light.Specular[c];
-      }
-      continue;
+      diffuseTerm = attenuation * nl;
+      specularTerm = attenuation * highlight;
     }
-    const glm::vec<3, Real>& l = light.Direction;
-    const T nl = detail::Facing(detail::Cosine(gradient.Dot(l) * inverse), model.TwoSided);
-    const glm::vec<3, Real> half = l + toViewer;
-    const Real halfLength = glm::length(half);
-    const T nh = halfLength > Real(0)
-      ? detail::Facing(detail::Cosine(gradient.Dot(half / halfLength) * inverse), model.TwoSided)
-      : T(Real(0));
-    const T highlight = detail::FacingPower(nh, model.SpecularPower);
-    for (int c = 0; c < 3; ++c)
+    else
     {
-      diffuse[c] = diffuse[c] + nl * light.Diffuse[c];
-      specular[c] = specular[c] + highlight * light.Specular[c];
+      const glm::vec<3, Real>& l = light.Direction;
+      diffuseTerm = detail::Facing(detail::Cosine(gradient.Dot(l) * inverse), model.TwoSided);
+      const glm::vec<3, Real> half = l + toViewer;
+      const Real halfLength = glm::length(half);
+      const T nh = halfLength > Real(0)
+        ? detail::Facing(detail::Cosine(gradient.Dot(half / halfLength) * inverse), model.TwoSided)
+        : T(Real(0));
+      specularTerm = detail::FacingPower(nh, model.SpecularPower);
     }
+    for (int c = 0; c < channels; ++c)
+    {
+      const T d = detail::Scaled(diffuseTerm, light.Diffuse[c]);
+      const T s = detail::Scaled(specularTerm, light.Specular[c]);
+      diffuse[c] = first ? d : diffuse[c] + d;
+      specular[c] = first ? s : specular[c] + s;
+    }
+    first = false;
+  }
+  // C (ka + kd D) + ks S, channel by channel.
+  T factor[3], shine[3];
+  for (int c = 0; c < channels; ++c)
+  {
+    factor[c] = model.Diffuse * diffuse[c] + model.Ambient;
+    shine[c] = model.Specular * specular[c];
   }
   for (int c = 0; c < 3; ++c)
   {
-    T value = ambient[c] + model.Diffuse * diffuse[c] * colour[c] + model.Specular * specular[c];
+    const int k = grey ? 0 : c;
+    T value = colour[c] * factor[k] + shine[k];
     if (sign == detail::Sign::Either)
     {
-      value = detail::Either(value, ambient[c]);
+      value = detail::Either(value, model.Ambient * colour[c]);
     }
     lit[c] = detail::Clamp01(value);
   }
