@@ -27,19 +27,30 @@ import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401  (image display helper
 SIZE = 32
 
 
+def colours(*points):
+    """A vtkColorTransferFunction through the (x, r, g, b) points."""
+    f = vtkColorTransferFunction()
+    for point in points:
+        f.AddRGBPoint(*point)
+    return f
+
+
+def opacities(*points):
+    """A vtkPiecewiseFunction through the (x, value[, midpoint, sharpness]) points."""
+    f = vtkPiecewiseFunction()
+    for point in points:
+        f.AddPoint(*point)
+    return f
+
+
 class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
     def setUp(self):
         source = avos.vtkAnalyticVolumeSource()
         source.SetFunctionToMarschnerLobb()
         source.SetDimensions(33, 33, 33)
         source.SetOutputScalarTypeToFloat()
-        color = vtkColorTransferFunction()
-        color.AddRGBPoint(0.0, 0.1, 0.3, 1.0)
-        color.AddRGBPoint(1.0, 1.0, 0.8, 0.2)
-        opacity = vtkPiecewiseFunction()
-        opacity.AddPoint(0.0, 0.0)
-        opacity.AddPoint(0.5, 0.0)
-        opacity.AddPoint(1.0, 0.4)
+        color = colours((0.0, 0.1, 0.3, 1.0), (1.0, 1.0, 0.8, 0.2))
+        opacity = opacities((0.0, 0.0), (0.5, 0.0), (1.0, 0.4))
         self.prop = vtkVolumeProperty()
         self.prop.SetColor(color)
         self.prop.SetScalarOpacity(opacity)
@@ -176,13 +187,9 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         # channel of every pixel lies within eps of the exact integral of
         # VTK's functions: the CPU mapper's piecewise method at 1e-5, itself
         # certified within 1e-5 of it (measured: 7e-5 apart).
-        color = vtkColorTransferFunction()
+        color = colours((0.0, 0.231, 0.298, 0.753), (1.0, 0.706, 0.016, 0.149))
         color.SetColorSpaceToDiverging()
-        color.AddRGBPoint(0.0, 0.231, 0.298, 0.753)
-        color.AddRGBPoint(1.0, 0.706, 0.016, 0.149)
-        opacity = vtkPiecewiseFunction()
-        opacity.AddPoint(0.0, 0.0, 0.5, 0.6)
-        opacity.AddPoint(1.0, 0.5)
+        opacity = opacities((0.0, 0.0, 0.5, 0.6), (1.0, 0.5))
         self.prop.SetColor(color)
         self.prop.SetScalarOpacity(opacity)
         self.assertPiecewiseWithinEps(1e-3)
@@ -265,13 +272,8 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             scaled.SetScale(hi - lo)
             scaled.SetOutputScalarType(getattr(vtkCommonCore, "VTK_" + name))
             self.source = scaled
-            color = vtkColorTransferFunction()
-            color.AddRGBPoint(lo, 0.1, 0.3, 1.0)
-            color.AddRGBPoint(hi, 1.0, 0.8, 0.2)
-            opacity = vtkPiecewiseFunction()
-            opacity.AddPoint(lo, 0.0)
-            opacity.AddPoint(0.5 * (lo + hi), 0.0)
-            opacity.AddPoint(hi, 0.4)
+            color = colours((lo, 0.1, 0.3, 1.0), (hi, 1.0, 0.8, 0.2))
+            opacity = opacities((lo, 0.0), (0.5 * (lo + hi), 0.0), (hi, 0.4))
             self.prop.SetColor(color)
             self.prop.SetScalarOpacity(opacity)
             self.assertPiecewiseWithinEps(1e-3, name)
@@ -352,10 +354,7 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         # exact gradient's length, scalar units per world unit) in the
         # sampled methods, unshaded and shaded, with a G whose knots the
         # field's gradients cross: as in testShadingAsTheCPUMapper.
-        gradient = vtkPiecewiseFunction()
-        gradient.AddPoint(0.0, 0.1)
-        gradient.AddPoint(1.0, 1.0)
-        gradient.AddPoint(3.0, 0.3)
+        gradient = opacities((0.0, 0.1), (1.0, 1.0), (3.0, 0.3))
         plain = self.cpuImage(lambda m: m.SetIntegrationMethodToRiemann())
         self.prop.SetGradientOpacity(gradient)
         for shade in (False, True):
@@ -444,16 +443,9 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
             tuples = vtkImageAppendComponents()
             for part in (hidden, hidden, shown):
                 tuples.AddInputConnection(part.GetOutputPort())
-            color = vtkColorTransferFunction()
-            color.AddRGBPoint(0.0, 0.1, 0.3, 1.0)
-            color.AddRGBPoint(top, 1.0, 0.8, 0.2)
-            opacity = vtkPiecewiseFunction()
-            opacity.AddPoint(0.0, 0.0)
-            opacity.AddPoint(0.5 * top, 0.0)
-            opacity.AddPoint(top, 0.4)
-            none = vtkPiecewiseFunction()
-            none.AddPoint(0.0, 0.0)
-            none.AddPoint(top, 0.0)
+            color = colours((0.0, 0.1, 0.3, 1.0), (top, 1.0, 0.8, 0.2))
+            opacity = opacities((0.0, 0.0), (0.5 * top, 0.0), (top, 0.4))
+            none = opacities((0.0, 0.0), (top, 0.0))
             for k, (function, weight) in enumerate(((none, 1.0), (opacity, 0.0), (opacity, 1.5))):
                 self.prop.SetColor(k, color)
                 self.prop.SetScalarOpacity(k, function)
@@ -486,16 +478,9 @@ class TestOpenGLAdaptiveVolumeMapperPython(Testing.vtkTest):
         # renders one component first: its shader, built without the
         # mixture's code, must be rebuilt for the mixture. NaN in one
         # component empties its cells for it alone, on both mappers.
-        color = vtkColorTransferFunction()
-        color.AddRGBPoint(0.0, 1.0, 0.2, 0.1)
-        color.AddRGBPoint(1.0, 0.1, 0.9, 0.3)
-        shell = vtkPiecewiseFunction()
-        shell.AddPoint(0.0, 0.0)
-        shell.AddPoint(0.3, 0.5)
-        shell.AddPoint(0.6, 0.0)
-        ramp = vtkPiecewiseFunction()
-        ramp.AddPoint(0.0, 0.0)
-        ramp.AddPoint(255.0, 0.5)
+        color = colours((0.0, 1.0, 0.2, 0.1), (1.0, 0.1, 0.9, 0.3))
+        shell = opacities((0.0, 0.0), (0.3, 0.5), (0.6, 0.0))
+        ramp = opacities((0.0, 0.0), (255.0, 0.5))
 
         def independent():
             self.prop.SetColor(1, color)
