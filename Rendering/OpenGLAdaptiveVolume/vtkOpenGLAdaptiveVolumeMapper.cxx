@@ -842,9 +842,16 @@ void vtkOpenGLAdaptiveVolumeMapper::AddShaderReplacements(vtkOpenGLShaderPropert
   {
     directives += "#extension GL_ARB_gpu_shader_fp64 : require\n#define AVOS_DOUBLE_PRECISION\n";
   }
-  if (this->Internals->Medium.Mixed)
+  const ShaderMedium& medium = this->Internals->Medium;
+  if (medium.Mixed)
   {
-    directives += "#define AVOS_MIXTURE\n"; // the sampled methods' mixture code
+    // The sampled methods' code for this mixture (the shader's transfer-function section).
+    using Mix = avos::numerics::ComponentMix;
+    const Mix mix = medium.Mixture.Mixture.GetMix();
+    const int kind = mix == Mix::Independent ? 1 : mix == Mix::ColourOpacity ? 2 : 3;
+    directives += "#define AVOS_MIXTURE " +
+      std::to_string(medium.Mixture.Mixture.GetNumberOfComponents()) + "\n#define AVOS_MIX_KIND " +
+      std::to_string(kind) + "\n";
   }
   shaderProperty->AddFragmentShaderReplacement("//VTK::System::Dec", true, directives, false);
   shaderProperty->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
@@ -955,13 +962,6 @@ void vtkOpenGLAdaptiveVolumeMapper::SetPieceUniforms(vtkUniforms* uniforms)
   uniforms->SetUniform4f("avos_fnUnit", unit);
   uniforms->SetUniform4f("avos_fnJumpsTotal", jumps);
   const auto& mixture = medium.Mixture.Mixture;
-  using Mix = avos::numerics::ComponentMix;
-  const int kind = !medium.Mixed             ? 0
-    : mixture.GetMix() == Mix::Independent   ? 1
-    : mixture.GetMix() == Mix::ColourOpacity ? 2
-                                             : 3;
-  uniforms->SetUniformi("avos_mixKind", kind);
-  uniforms->SetUniformi("avos_mixCount", medium.Mixed ? mixture.GetNumberOfComponents() : 1);
   float weights[4];
   for (int k = 0; k < 4; ++k)
   {

@@ -192,15 +192,16 @@ float avos_trilinear(float c[8], vec3 f)
 // avos_piece*[avos_fnFirst[f], avos_fnFirst[f] + avos_fnCount[f]), its
 // colour and opacity below its first knot avos_fnBelow[f], its unit
 // distance avos_fnUnit[f], its jump count avos_fnJumpsTotal[f]. Function 0
-// is the one medium's where avos_mixKind is 0; a mixture's
-// (numerics::MixtureTransferFunction) are: 1, independent components,
-// component k through function k with weight avos_mixWeight[k]; 2, the
-// colour of s_0 and the opacity of s_1 through function 0; 3, the colour
-// (s_0, s_1, s_2) times avos_mixScale and the opacity of s_3 through
-// function 0. The mapper defines AVOS_MIXTURE for a mixture only: a sample
-// of one medium then reads one channel (llvmpipe runs both sides of a
-// branch, so the mixture's code in the sampled methods would cost every
-// medium four reads of the cell and four transfer-function searches).
+// is the one medium's. For a mixture (numerics::MixtureTransferFunction)
+// the mapper defines AVOS_MIXTURE, its number of components, and
+// AVOS_MIX_KIND: 1, independent components, component k through function k
+// with weight avos_mixWeight[k]; 2, the colour of s_0 and the opacity of
+// s_1 through function 0; 3, the colour (s_0, s_1, s_2) times avos_mixScale
+// and the opacity of s_3 through function 0. Only the code of that mixture
+// is compiled (the mapper's directives; a change rebuilds the shader):
+// llvmpipe runs both sides of a branch, so a sample of one medium would
+// otherwise pay four reads of the cell and four transfer-function searches,
+// and a mixture the code of the others.
 
 // The last piece of function f starting at or below s; -1 below its first
 // knot or for NaN. A binary search; for a mixture, whose every sample
@@ -353,11 +354,12 @@ void avos_classify(float s, out float tau, out vec3 colour)
   avos_classifyIn(0, s, tau, colour);
 }
 
+#ifdef AVOS_MIXTURE
 // MixtureTransferFunction::Classify: tau and the colour of the medium at
 // the components' values s. (The loops over the components here and in
 // avos_sample and avos_estimateScale are written out, as avos_locateIn's.)
 #define AVOS_MIX_ADD(k)                                                                            \
-  if (k < avos_mixCount && avos_mixWeight[k] > 0.0)                                                \
+  if (avos_mixWeight[k] > 0.0)                                                                     \
   {                                                                                                \
     float t;                                                                                       \
     vec3 c;                                                                                        \
@@ -369,35 +371,39 @@ void avos_classifyMixture(vec4 s, out float tau, out vec3 colour)
 {
   tau = 0.0;
   colour = vec3(0.0);
-  if (avos_mixKind == 1)
+#if AVOS_MIX_KIND == 1
+  vec3 emission = vec3(0.0);
+  AVOS_MIX_ADD(0)
+  AVOS_MIX_ADD(1)
+#if AVOS_MIXTURE > 2
+  AVOS_MIX_ADD(2)
+#endif
+#if AVOS_MIXTURE > 3
+  AVOS_MIX_ADD(3)
+#endif
+  if (tau > 0.0)
   {
-    vec3 emission = vec3(0.0);
-    AVOS_MIX_ADD(0)
-    AVOS_MIX_ADD(1)
-    AVOS_MIX_ADD(2)
-    AVOS_MIX_ADD(3)
-    if (tau > 0.0)
-    {
-      colour = emission / tau;
-    }
-    return;
+    colour = emission / tau;
   }
-  float t;
-  vec3 c;
-  avos_classifyIn(0, avos_mixKind == 2 ? s[1] : s[3], t, c);
-  vec3 rgb = avos_mixKind == 2 ? vec3(0.0) : s.xyz * avos_mixScale;
-  if (avos_mixKind == 2 && !isnan(s[0]))
+#elif AVOS_MIX_KIND == 2
+  if (!isnan(s[0]))
   {
     float opacity;
+    vec3 c;
+    avos_classifyIn(0, s[1], tau, c);
     avos_lookUpIn(0, s[0], opacity, colour);
-    tau = t;
   }
-  else if (avos_mixKind == 3 && !isnan(rgb.x + rgb.y + rgb.z))
+#else
+  vec3 rgb = s.xyz * avos_mixScale;
+  if (!isnan(rgb.x + rgb.y + rgb.z))
   {
-    tau = t;
+    vec3 c;
+    avos_classifyIn(0, s[3], tau, c);
     colour = rgb;
   }
+#endif
 }
+#endif
 
 float avos_jumpsBeforeIn(int f, int k)
 {
@@ -598,12 +604,9 @@ float avos_gradientFactor(float g)
 
 #ifdef AVOS_MIXTURE
 #define AVOS_MIX_READ(k)                                                                           \
-  if (k < avos_mixCount)                                                                           \
-  {                                                                                                \
-    avos_channel = k;                                                                              \
-    avos_cornerValues(cell, c);                                                                    \
-    s.Scalars[k] = avos_trilinear(c, f);                                                           \
-  }
+  avos_channel = k;                                                                                \
+  avos_cornerValues(cell, c);                                                                      \
+  s.Scalars[k] = avos_trilinear(c, f);
 #endif
 
 // The sample at t: its scalar, extinction (times G with gradient opacity)
@@ -618,19 +621,20 @@ avos_Sample avos_sample(avos_real t)
   avos_cellAt(g, cell, f);
   float c[8];
 #ifdef AVOS_MIXTURE
-  if (avos_mixKind != 0)
-  {
-    // Each component's field (its channel in turn), the medium of them all
-    // (unshaded, without gradient opacity: the mapper refuses those).
-    s.Scalars = vec4(0.0);
-    AVOS_MIX_READ(0)
-    AVOS_MIX_READ(1)
-    AVOS_MIX_READ(2)
-    AVOS_MIX_READ(3)
-    s.Scalar = s.Scalars[0];
-    avos_classifyMixture(s.Scalars, s.Tau, s.Colour);
-    return s;
-  }
+  // Each component's field (its channel in turn), the medium of them all
+  // (unshaded, without gradient opacity: the mapper refuses those).
+  s.Scalars = vec4(0.0);
+  AVOS_MIX_READ(0)
+  AVOS_MIX_READ(1)
+#if AVOS_MIXTURE > 2
+  AVOS_MIX_READ(2)
+#endif
+#if AVOS_MIXTURE > 3
+  AVOS_MIX_READ(3)
+#endif
+  s.Scalar = s.Scalars[0];
+  avos_classifyMixture(s.Scalars, s.Tau, s.Colour);
+  return s;
 #endif
   avos_cornerValues(cell, c);
   s.Scalar = avos_trilinear(c, f);
@@ -914,11 +918,12 @@ float avos_componentScale(avos_Bracket b, int k, int f)
   return avos_hasJumpInOf(f, lo, hi) ? 15.0 : (avos_hasKnotInOf(f, lo, hi) ? 5.0 : 1.0);
 }
 
-#define AVOS_MIX_SCALE(k)                                                                          \
-  if (k < avos_mixCount && (avos_mixKind != 1 || avos_mixWeight[k] > 0.0) &&                       \
-    !(avos_mixKind == 3 && k < 3))                                                                 \
+// Component k read through function f (independent ones of weight 0 are
+// not read).
+#define AVOS_MIX_SCALE(k, f)                                                                       \
+  if (AVOS_MIX_KIND != 1 || avos_mixWeight[k] > 0.0)                                               \
   {                                                                                                \
-    b.Scale = max(b.Scale, avos_componentScale(b, k, avos_mixKind == 1 ? k : 0));                  \
+    b.Scale = max(b.Scale, avos_componentScale(b, k, f));                                          \
   }
 #endif
 
@@ -932,15 +937,23 @@ float avos_estimateScale(inout avos_Bracket b)
     return b.Scale;
   }
 #ifdef AVOS_MIXTURE
-  if (avos_mixKind != 0)
-  {
-    b.Scale = 1.0;
-    AVOS_MIX_SCALE(0)
-    AVOS_MIX_SCALE(1)
-    AVOS_MIX_SCALE(2)
-    AVOS_MIX_SCALE(3)
-    return b.Scale;
-  }
+  b.Scale = 1.0;
+#if AVOS_MIX_KIND == 1
+  AVOS_MIX_SCALE(0, 0)
+  AVOS_MIX_SCALE(1, 1)
+#if AVOS_MIXTURE > 2
+  AVOS_MIX_SCALE(2, 2)
+#endif
+#if AVOS_MIXTURE > 3
+  AVOS_MIX_SCALE(3, 3)
+#endif
+#elif AVOS_MIX_KIND == 2
+  AVOS_MIX_SCALE(0, 0)
+  AVOS_MIX_SCALE(1, 0)
+#else
+  AVOS_MIX_SCALE(3, 0)
+#endif
+  return b.Scale;
 #endif
   float lo = b.S[0].Scalar;
   float hi = lo;
