@@ -10,14 +10,18 @@ the same frame (800x600, default view, 2 threads, median of 3 frames):
   function (weight 1): about twice the visible matter;
 - two, the first alone rendered (vtkAdaptiveVolumeMapper's vector mode
   COMPONENT, as ParaView colours by a component);
-- VTK's fixed-point mapper (step 0.5) on the one and the two components.
+- VTK's fixed-point mapper (step 0.5) on the one and the two components;
+- with --methods, the GPU mapper's sampled methods (gpu-riemann,
+  gpu-coupled at eps 1e-3: every channel read at each sample) on the one
+  component, the second transparent and the mirrored pair.
 
 Per run: seconds, the ratio to the one-component frame of the same method,
 cells and pieces per ray, and for the piecewise method the largest
 difference from the one-component image where the second is transparent.
 
     PYTHONPATH=build/python xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" /usr/bin/python3 \\
-        scripts/bench-components.py [--datasets Bonsai,Foot,Engine] [--size 800x600]
+        scripts/bench-components.py [--datasets Bonsai,Foot,Engine] [--size 800x600] \\
+        [--methods piecewise,riemann,vtk-fixed-point,gpu-riemann,gpu-coupled]
 """
 
 import argparse
@@ -119,11 +123,22 @@ def avos_mapper(method):
     return mapper
 
 
+def gpu_mapper(method):
+    mapper = avos.vtkOpenGLAdaptiveVolumeMapper()
+    if method == "gpu-riemann":
+        mapper.SetIntegrationMethodToRiemann()
+    else:
+        mapper.SetIntegrationMethodToAdaptiveCoupled()
+        mapper.SetTolerance(1e-3)
+    return mapper
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--datasets", default="Bonsai,Foot,Engine")
     parser.add_argument("--size", default="800x600")
     parser.add_argument("--frames", type=int, default=3)
+    parser.add_argument("--methods", default="piecewise,riemann,vtk-fixed-point")
     args = parser.parse_args()
     size = tuple(int(v) for v in args.size.split("x"))
     print("| dataset | method | components | seconds | ratio to one | cells/ray | pieces/ray |")
@@ -131,7 +146,7 @@ def main():
     for name in args.datasets.split(","):
         path, tf_path = DATASETS[name]
         one, two = volumes(path)
-        for method in ("piecewise", "riemann", "vtk-fixed-point"):
+        for method in args.methods.split(","):
             baseline = None
             image_one = None
             for label, image, second in (("1", one, False), ("2, second transparent", two, False),
@@ -139,8 +154,11 @@ def main():
                                          ("2, vector mode COMPONENT 0", two, False)):
                 if method == "vtk-fixed-point" and not label.endswith("mirrored") and label != "1":
                     continue
+                gpu = method.startswith("gpu-")
+                if gpu and label.startswith("2, vector mode"):
+                    continue
                 mapper = (vtkFixedPointVolumeRayCastMapper() if method == "vtk-fixed-point"
-                          else avos_mapper(method))
+                          else gpu_mapper(method) if gpu else avos_mapper(method))
                 if label.startswith("2, vector mode"):
                     mapper.SetVectorMode(avos.vtkAdaptiveVolumeMapper.COMPONENT)
                     mapper.SetVectorComponent(0)
@@ -151,7 +169,7 @@ def main():
                 baseline = baseline or seconds
                 cells = pieces = ""
                 extra = ""
-                if method != "vtk-fixed-point":
+                if method != "vtk-fixed-point" and not gpu:
                     cells = "%.1f" % mapper.GetMeanCellsPerRay()
                     pieces = "%.1f" % mapper.GetMeanPiecesPerRay()
                     rgba = mapper.GetRenderedImage().GetPointData().GetScalars()
