@@ -89,6 +89,14 @@ TEST(Shading, BlinnPhongTermByTerm)
   EXPECT_LT(glm::length(model.Shade(c, -up, up, origin) - 0.2 * c), 1e-15);
   model.TwoSided = true;
   EXPECT_LT(glm::length(model.Shade(c, -up, up, origin) - tilted), 1e-14);
+  // A coloured light: each channel's diffuse and specular terms take its
+  // own colour (grey lights share one sum for all channels).
+  model.Lights[0].Diffuse = glm::dvec3(1.0, 0.5, 0.25);
+  model.Lights[0].Specular = glm::dvec3(0.2, 0.4, 1.0);
+  const glm::dvec3 coloured = model.Shade(c, up, up, origin);
+  const glm::dvec3 expected = 0.2 * c + 0.5 * 0.5 * model.Lights[0].Diffuse * c +
+    0.3 * std::pow(nh, 4.0) * model.Lights[0].Specular;
+  EXPECT_LT(glm::length(coloured - expected), 1e-14);
   // Bright lights saturate at 1 per channel.
   model.Lights[0].Diffuse = glm::dvec3(10.0);
   EXPECT_EQ(model.Shade(c, up, up, origin), glm::dvec3(1.0));
