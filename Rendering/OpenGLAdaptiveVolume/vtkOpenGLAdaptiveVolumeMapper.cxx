@@ -201,8 +201,9 @@ struct ShaderMedium
     scalars->GetRange(range, this->Component);
     for (int k = 0; k < scalars->GetNumberOfComponents() && this->Mixed; ++k)
     {
-      range[0] = std::min(range[0], scalars->GetRange(k)[0]);
-      range[1] = std::max(range[1], scalars->GetRange(k)[1]);
+      const double* component = scalars->GetRange(k);
+      range[0] = std::min(range[0], component[0]);
+      range[1] = std::max(range[1], component[1]);
     }
   }
 

@@ -424,22 +424,12 @@ bool avos_hasJumpInOf(int f, float lo, float hi)
   return end > first && avos_jumpsBeforeIn(f, end) > avos_jumpsBeforeIn(f, first);
 }
 
-bool avos_hasJumpIn(float lo, float hi)
-{
-  return avos_hasJumpInOf(0, lo, hi);
-}
-
 // A kink or a jump of function f at a scalar in (lo, hi).
 bool avos_hasKnotInOf(int f, float lo, float hi)
 {
   int next = avos_locateIn(f, lo);
   next = next < 0 ? avos_fnFirst[f] : next + 1;
   return next < avos_fnFirst[f] + avos_fnCount[f] && avos_pieceA[next].x < hi;
-}
-
-bool avos_hasKnotIn(float lo, float hi)
-{
-  return avos_hasKnotInOf(0, lo, hi);
 }
 
 // ----------------------------------------------------------------- the ray
@@ -895,19 +885,20 @@ void avos_halve(inout avos_Bracket b)
   b.S[3] = avos_sample(b.U + avos_real(0.75) * b.K);
 }
 
-#ifdef AVOS_MIXTURE
-// The factor for component k of a mixture through function f: its scalars'
-// range as avos_estimateScale widens it (SimpsonErrorScale).
-float avos_componentScale(avos_Bracket b, int k, int f)
+// Simpson's estimate assumes a smooth integrand: the factor for a
+// bracket's scalars v read through function f (SimpsonErrorScale), 15
+// across a jump of f, 5 across a kink, 1 otherwise, over their range
+// widened by the largest step between neighbours.
+float avos_rangeScale(float v[5], int f)
 {
-  float lo = b.S[0].Scalars[k];
+  float lo = v[0];
   float hi = lo;
   float spread = 0.0;
   for (int i = 1; i < 5; ++i)
   {
-    lo = min(lo, b.S[i].Scalars[k]);
-    hi = max(hi, b.S[i].Scalars[k]);
-    spread = max(spread, abs(b.S[i].Scalars[k] - b.S[i - 1].Scalars[k]));
+    lo = min(lo, v[i]);
+    hi = max(hi, v[i]);
+    spread = max(spread, abs(v[i] - v[i - 1]));
   }
   lo = max(lo - spread, avos_fieldRange.x);
   hi = min(hi + spread, avos_fieldRange.y);
@@ -916,6 +907,15 @@ float avos_componentScale(avos_Bracket b, int k, int f)
     return 1.0;
   }
   return avos_hasJumpInOf(f, lo, hi) ? 15.0 : (avos_hasKnotInOf(f, lo, hi) ? 5.0 : 1.0);
+}
+
+#ifdef AVOS_MIXTURE
+// The factor for component k of a mixture through function f.
+float avos_componentScale(avos_Bracket b, int k, int f)
+{
+  return avos_rangeScale(float[5](b.S[0].Scalars[k], b.S[1].Scalars[k], b.S[2].Scalars[k],
+                           b.S[3].Scalars[k], b.S[4].Scalars[k]),
+    f);
 }
 
 // Component k read through function f (independent ones of weight 0 are
@@ -927,9 +927,9 @@ float avos_componentScale(avos_Bracket b, int k, int f)
   }
 #endif
 
-// Simpson's estimate assumes a smooth integrand: 15 across a jump of the
-// transfer function, 5 across a kink, 1 otherwise (Bracket::EstimateScale);
-// a mixture's, the largest over the components it reads through a function.
+// The bracket's factor (Bracket::EstimateScale), computed once: its
+// scalars' avos_rangeScale; a mixture's, the largest over the components it
+// reads through a function.
 float avos_estimateScale(inout avos_Bracket b)
 {
   if (b.Scale > 0.0)
@@ -955,22 +955,8 @@ float avos_estimateScale(inout avos_Bracket b)
 #endif
   return b.Scale;
 #endif
-  float lo = b.S[0].Scalar;
-  float hi = lo;
-  float spread = 0.0;
-  for (int i = 1; i < 5; ++i)
-  {
-    lo = min(lo, b.S[i].Scalar);
-    hi = max(hi, b.S[i].Scalar);
-    spread = max(spread, abs(b.S[i].Scalar - b.S[i - 1].Scalar));
-  }
-  lo = max(lo - spread, avos_fieldRange.x);
-  hi = min(hi + spread, avos_fieldRange.y);
-  b.Scale = 1.0;
-  if (lo == lo && hi == hi && lo < hi)
-  {
-    b.Scale = avos_hasJumpIn(lo, hi) ? 15.0 : (avos_hasKnotIn(lo, hi) ? 5.0 : 1.0);
-  }
+  b.Scale = avos_rangeScale(
+    float[5](b.S[0].Scalar, b.S[1].Scalar, b.S[2].Scalar, b.S[3].Scalar, b.S[4].Scalar), 0);
   return b.Scale;
 }
 
