@@ -16,6 +16,14 @@ it.
   dependent components): within 4/255 of ParaView's own.
 - ParaView's default colour map (Cool to Warm, discretized to 256 colours)
   certified: no approximation notice.
+- ParaView's Shade checkbox with the representation's defaults (the
+  piecewise method at its default tolerance) on Neghip's density: lit,
+  without an error or notice, its shading effect (mean change from the
+  unshaded image) within a third of ParaView's own and the shaded images
+  within half that effect of each other (the two light the same scene by
+  different normals: the exact gradient against central differences).
+- A 2D transfer function (ParaView's gradient-dependent opacity): refused
+  with an error naming it.
 - VolumeRenderingMode other than the default, global illumination reach,
   volumetric scattering blending: a warning each.
   pvbatch VolumeOptions.py PLUGIN DATA_DIR
@@ -25,7 +33,8 @@ import sys
 
 from paraview import servermanager
 from paraview.simple import (ColorBy, CreateView, GetColorTransferFunction,
-                             GetOpacityTransferFunction, Gradient, LoadPlugin, Render, Show)
+                             GetOpacityTransferFunction, Gradient, Hide, LoadPlugin, Render,
+                             Show)
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
 
@@ -129,6 +138,46 @@ mean, covered = mean_difference(ours, theirs)
 check(covered > 500 and mean <= 4.0,
       "separate opacity array: %d pixels, %.2f/255 from ParaView's own" % (covered, mean))
 shown.UseSeparateOpacityArray = 0
+
+# Shade with the representation's defaults (not both(): no method or
+# tolerance set), against ParaView's own shaded and unshaded images.
+Hide(gradient, view)
+lit = Show(reader, view)
+lit.SetRepresentationType("AVoS Volume")
+ColorBy(lit, ("POINTS", "density"))
+GetColorTransferFunction("density").RescaleTransferFunction(0.0, 255.0)
+density_opacity = GetOpacityTransferFunction("density")
+density_opacity.Points = [0.0, 0.0, 0.5, 0.0, 60.0, 0.0, 0.5, 0.0, 255.0, 0.6, 0.5, 0.0]
+lit.ScalarOpacityUnitDistance = 1.0
+plain = {}
+shaded = {}
+for name in ("AVoS Volume", "Volume"):
+    lit.SetRepresentationType(name)
+    lit.Shade = 0
+    plain[name] = pixels()
+    lit.Shade = 1
+    log = warnings_of(lambda: Render(view))
+    shaded[name] = pixels()
+    if name == "AVoS Volume":
+        check(log.strip() == "", "Shade with the defaults: no error or notice (%r)" % log[:200])
+ours_effect, covered = mean_difference(shaded["AVoS Volume"], plain["AVoS Volume"])
+their_effect, _ = mean_difference(shaded["Volume"], plain["Volume"])
+apart, _ = mean_difference(shaded["AVoS Volume"], shaded["Volume"])
+print("Shade: %d pixels; effect %.2f/255 (ParaView's own %.2f/255); shaded images %.2f/255 apart"
+      % (covered, ours_effect, their_effect, apart))
+check(covered > 500 and abs(ours_effect - their_effect) <= their_effect / 3.0,
+      "Shade lights the volume as ParaView's own does (effect %.2f against %.2f/255)"
+      % (ours_effect, their_effect))
+check(apart <= their_effect / 2.0,
+      "shaded images within half the effect: %.2f/255" % apart)
+lit.Shade = 0
+lit.SetRepresentationType("AVoS Volume")
+lit.UseTransfer2D = 1
+text = warnings_of(lambda: Render(view))
+check("2D transfer function" in text, "a 2D transfer function is refused with an error naming it")
+lit.UseTransfer2D = 0
+Hide(reader, view)
+shown = Show(gradient, view)
 
 check("approximated" not in default_map,
       "ParaView's default colour map is certified (no approximation notice)")

@@ -677,10 +677,20 @@ std::string avos::UnsupportedPropertySettings(
   {
     unsupportedGradient = unsupportedGradient || UsesGradientOpacity(property, k);
   }
-  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D || unsupportedGradient)
+  if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
   {
-    return "Only one-dimensional transfer functions of the scalar are supported: no gradient "
-           "opacity, no 2D transfer function";
+    return std::string("A 2D transfer function (ParaView's Use 2D Transfer Function) is not "
+                       "supported: colour and opacity are functions of the scalar") +
+      (gradientOpacity ? ", the opacity scaled by the first component's gradient opacity "
+                         "(vtkVolumeProperty::SetGradientOpacity)"
+                       : "");
+  }
+  if (unsupportedGradient)
+  {
+    return gradientOpacity
+      ? "Gradient opacity is supported on the first component only: no gradient opacity for the "
+        "others"
+      : "This class takes no gradient opacity: disable the property's gradient opacity";
   }
   if (property->GetUseClippedVoxelIntensity())
   {

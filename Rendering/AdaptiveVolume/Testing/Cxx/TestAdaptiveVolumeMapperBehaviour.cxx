@@ -585,6 +585,9 @@ int TestAdaptiveVolumeMapperBehaviour(int, char*[])
   scene.Property->UseClippedVoxelIntensityOn();
   expectError("clipped voxel intensity", "UseClippedVoxelIntensity");
   scene.Property->UseClippedVoxelIntensityOff();
+  scene.Property->SetTransferFunctionMode(vtkVolumeProperty::TF_2D);
+  expectError("2D transfer function", "A 2D transfer function (ParaView's Use 2D Transfer");
+  scene.Property->SetTransferFunctionMode(vtkVolumeProperty::TF_1D);
   scene.Property->SetInterpolationTypeToNearest();
   scene.Property->ShadeOn();
   expectError(
