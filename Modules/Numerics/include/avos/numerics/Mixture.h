@@ -33,9 +33,12 @@
 //   channel c is linear in (slope b_c): IntegratePiecewise's closed form
 //   and proven remainder, with up to three sources;
 // - several visible terms: int E_c e^{-theta} for the emission polynomials
-//   E_c >= 0: within [e^{-theta(l)}, 1] int E_c, whose midpoint errs by at
-//   most (1 - e^{-theta(l)}) int E_c / 2, or else the power series of
-//   e^{-theta} on sub-intervals with a proven tail (SeriesIntegrals).
+//   E_c >= 0, E = e^{-theta(l)}: the midpoint of [E, 1] int E_c, within
+//   (1 - E) int E_c / 2, or the mean colour int E_c / theta(l) times 1 - E,
+//   within (1 - E) / 2 times a bound of how far the terms' colours and
+//   their shares of the extinction vary over the piece
+//   (MixturePiece::Emissions), or else the power series of e^{-theta} on
+//   sub-intervals with a proven tail (SeriesIntegrals).
 // A mixture in which one component alone shows (the others of weight 0 or
 // transparent everywhere) is that component's medium, its weight in its
 // extinction: its rays are IntegratePiecewise's on that component.
@@ -544,29 +547,113 @@ Polynomial<Real, 10> ExtinctionPolynomial(
   return tau;
 }
 
+// The range [lo, hi] of the cubic q over [0, length]: its ends and its
+// extrema inside, up to rounding.
+template <typename Real>
+void CubicRange(const Cubic<Real>& q, Real length, Real& lo, Real& hi)
+{
+  lo = std::min(q(Real(0)), q(length));
+  hi = std::max(q(Real(0)), q(length));
+  Real extrema[2];
+  const int n = Extrema(q, length, extrema);
+  for (int i = 0; i < n; ++i)
+  {
+    lo = std::min(lo, q(extrema[i]));
+    hi = std::max(hi, q(extrema[i]));
+  }
+}
+
+// The range of a term's w tau(d(v)) over [0, l]: tau's cubic in d over d's
+// range.
+template <typename Real>
+void ExtinctionRange(const PieceTerm<Real>& term, Real l, Real& lo, Real& hi)
+{
+  // d is monotone where the term's colour is of its own scalar (a cubic cut
+  // at its extrema: d's up to a constant).
+  const Cubic<Real>& x = term.Colour.X[0];
+  const Cubic<Real>& d = term.D;
+  Real dlo = std::min(d(Real(0)), d(l)), dhi = std::max(d(Real(0)), d(l));
+  if (term.Colour.Sources != 1 || x.K[1] != d.K[1] || x.K[2] != d.K[2] || x.K[3] != d.K[3])
+  {
+    CubicRange(d, l, dlo, dhi);
+  }
+  const auto& e = *term.Extinction;
+  const Cubic<Real> tau{ { e.Tau, e.TauSlope, e.TauCurvature, e.TauCubic } };
+  if (e.TauCurvature == Real(0) && e.TauCubic == Real(0))
+  {
+    lo = std::min(tau(dlo), tau(dhi));
+    hi = std::max(tau(dlo), tau(dhi));
+  }
+  else
+  {
+    CubicRange(tau.Shifted(dlo), dhi - dlo, lo, hi);
+  }
+  lo = term.Weight * std::max(lo, Real(0));
+  hi = term.Weight * std::max(hi, Real(0));
+}
+
 // The integral of a colour remainder (by parts, one visible term) or of the
 // emissions (several) over one piece, within the piece's share of the
-// tolerance; Ta the transmittance in front, E = e^{-theta(l)}. Adds the
-// piece's colour; false when a remainder is refused.
+// tolerance; Ta the transmittance in front. Its transmittance E =
+// e^{-theta(l)}: of one term from theta's polynomial, of several from the
+// terms' depths theta_t(l) = int_0^l w_t tau_t by 7-point Gauss-Legendre
+// (exact for their degree, at most 9), which the emissions' integrals reuse.
 template <typename Real>
 class MixturePiece
 {
 public:
-  MixturePiece(const PieceDepth<Real>& depth, Real length, Real transmittance, Real front,
-    Real budget, Real inverseL, RayStatistics<Real>& stats)
-    : Depth(depth)
+  MixturePiece(const PieceTerm<Real>* terms, int count, Real length, Real front, Real budget,
+    Real inverseL, RayStatistics<Real>& stats)
+    : Terms(terms)
+    , Count(count)
     , L(length)
-    , E(transmittance)
     , Ta(front)
     , Budget(budget)
     , InverseL(inverseL)
     , Stats(stats)
   {
+    if (count == 1)
+    {
+      this->E = std::exp(-this->Depth()(length));
+      return;
+    }
+    using G = GaussLegendre<Real>;
+    const Real half = Real(0.5) * length;
+    for (int i = 0; i < 7; ++i)
+    {
+      this->Nodes[i] = half + half * G::N7[i];
+    }
+    Real theta = Real(0);
+    for (int t = 0; t < count; ++t)
+    {
+      const auto& e = *terms[t].Extinction;
+      Real sum = Real(0);
+      for (int i = 0; i < 7; ++i)
+      {
+        const Real d = terms[t].D(this->Nodes[i]);
+        const Real tau = e.Tau + d * (e.TauSlope + d * (e.TauCurvature + d * e.TauCubic));
+        this->WeightedTau[t][i] = G::W7[i] * terms[t].Weight * tau;
+        sum += this->WeightedTau[t][i];
+      }
+      this->Theta[t] = std::max(sum * half, Real(0));
+      theta += this->Theta[t];
+    }
+    this->E = std::exp(-theta);
   }
 
-  bool ByParts(const PieceTerm<Real>& term, glm::vec<3, Real>& colour) const
+  // e^{-theta(l)}.
+  Real Transmittance() const { return this->E; }
+
+  // Adds the piece's colour; false when a remainder is refused.
+  bool Integrate(glm::vec<3, Real>& colour) const
   {
-    const PieceColour<Real>& pc = term.Colour;
+    return this->Count == 1 ? this->ByParts(colour) : this->Emissions(colour);
+  }
+
+private:
+  bool ByParts(glm::vec<3, Real>& colour) const
+  {
+    const PieceColour<Real>& pc = this->Terms[0].Colour;
     const glm::vec<3, Real> x0 = pc.At(Real(0)), dx = pc.At(this->L) - x0;
     colour += this->Ta * (pc.A + pc.B * x0) - (this->Ta * this->E) * (pc.A + pc.B * (x0 + dx));
     const glm::vec<3, Real> change = glm::abs(pc.B * dx), slope = glm::abs(pc.B);
@@ -615,58 +702,164 @@ public:
     return true;
   }
 
-  bool Emissions(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
+  // int E_c e^{-theta}, E_c = sum_t w_t tau_t C_tc >= 0 and theta' = tau =
+  // sum_t w_t tau_t: for any constant m_c, with r_c = E_c - m_c tau,
+  //   int E_c e^{-theta} = m_c (1 - E) + (1 + E) / 2 (W_c - m_c theta(l))
+  //     + int r_c (e^{-theta} - (1 + E) / 2),
+  // W_c = int E_c, and since e^{-theta} lies in [E, 1] the last term is at
+  // most (1 - E) / 2 int |r_c|. m_c = 0 is the midpoint of [E, 1] times W_c,
+  // int |r_c| = W_c; m_c = W_c / theta(l), the mean colour, has
+  // int |r_c| <= SpreadAround(m) (the terms' colours around it), or, split
+  // term by term, <= SplitSpread. The smaller bound, where it fits the share;
+  // else the power series of e^{-theta}.
+  bool Emissions(glm::vec<3, Real>& colour) const
   {
     if (this->Ta == Real(0))
     {
       return true;
     }
-    // int_0^l E_c by 7-point Gauss-Legendre, exact for E_c's degree (at most
-    // 12), and the midpoint of [E, 1] times it where that is within the
-    // share: no polynomial is built.
-    const glm::vec<3, Real> whole = this->EmissionIntegrals(terms, count);
-    const glm::vec<3, Real> size = glm::abs(whole);
-    if (std::max({ size.x, size.y, size.z }) * this->Ta * (Real(1) - this->E) <= this->Share())
+    glm::vec<3, Real> wholes[MaximumComponents];
+    const glm::vec<3, Real> whole = this->EmissionIntegrals(wholes);
+    Real theta = Real(0);
+    for (int t = 0; t < this->Count; ++t)
     {
-      colour += whole * (this->Ta * (Real(1) + this->E) / Real(2));
+      theta += this->Theta[t];
+    }
+    const glm::vec<3, Real> m = theta > Real(0) ? whole / theta : glm::vec<3, Real>(Real(0));
+    const glm::vec<3, Real> midpoint = glm::abs(whole);
+    glm::vec<3, Real> around = this->SpreadAround(m);
+    if (theta > Real(0) && !this->Fits(glm::min(midpoint, around)))
+    {
+      around = glm::min(around, this->SplitSpread(wholes, theta, midpoint, around));
+    }
+    glm::vec<3, Real> mean(Real(0)), bound = midpoint;
+    for (int c = 0; c < 3; ++c)
+    {
+      if (theta > Real(0) && around[c] < midpoint[c])
+      {
+        mean[c] = m[c];
+        bound[c] = around[c];
+      }
+    }
+    if (this->Fits(bound))
+    {
+      colour += this->Ta *
+        (mean * (Real(1) - this->E) + (whole - mean * theta) * ((Real(1) + this->E) / Real(2)));
       return true;
     }
     // Degree 6 where every extinction is linear in its scalar (the
     // extinction model), 12 otherwise.
-    for (int t = 0; t < count; ++t)
+    for (int t = 0; t < this->Count; ++t)
     {
-      const auto& e = *terms[t].Extinction;
+      const auto& e = *this->Terms[t].Extinction;
       if (e.TauCurvature != Real(0) || e.TauCubic != Real(0))
       {
-        return this->SeriesOf<13>(terms, count, colour);
+        return this->SeriesOf<13>(colour);
       }
     }
-    return this->SeriesOf<7>(terms, count, colour);
+    return this->SeriesOf<7>(colour);
   }
 
-private:
-  // int_0^l E_c, E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), by 7-point
-  // Gauss-Legendre (the nodes of a term in independent chains; a term's sum
-  // of weights and, of one colour scalar, its moment serve every channel).
-  glm::vec<3, Real> EmissionIntegrals(const PieceTerm<Real>* terms, int count) const
+  // Whether (1 - E) / 2 `bound` (of int |r_c|, each channel) fits half the
+  // share.
+  bool Fits(const glm::vec<3, Real>& bound) const
   {
-    using G = GaussLegendre<Real>;
-    const Real half = Real(0.5) * this->L;
-    Real v[7];
-    for (int i = 0; i < 7; ++i)
+    const Real worst = std::max({ bound.x, bound.y, bound.z });
+    return worst * this->Ta * (Real(1) - this->E) <= this->Share();
+  }
+
+  // max |C_c - m_c| over the piece for a colour monotone on it (extremes at
+  // the ends).
+  glm::vec<3, Real> ColourSpread(const PieceColour<Real>& pc, const glm::vec<3, Real>& m) const
+  {
+    const glm::vec<3, Real> c0 = pc.A + pc.B * pc.At(Real(0));
+    const glm::vec<3, Real> cl = pc.A + pc.B * pc.At(this->L);
+    return glm::max(glm::abs(c0 - m), glm::abs(cl - m));
+  }
+
+  // int |r_c| <= sum_t int w_t tau_t |C_tc - m_c| <= sum_t theta_t max |C_tc - m_c|.
+  glm::vec<3, Real> SpreadAround(const glm::vec<3, Real>& m) const
+  {
+    glm::vec<3, Real> spread(Real(0));
+    for (int t = 0; t < this->Count; ++t)
     {
-      v[i] = half + half * G::N7[i];
+      spread += this->Theta[t] * this->ColourSpread(this->Terms[t].Colour, m);
     }
-    glm::vec<3, Real> whole(Real(0));
-    for (int t = 0; t < count; ++t)
+    return spread;
+  }
+
+  // int |r_c| for the mean m_c term by term: with each term's mean colour
+  // m_tc = W_tc / theta_t and its share of the extinction rho_t = w_t tau_t /
+  // tau (mean rho_t = theta_t / theta over the piece), K_t = int w_t tau_t
+  // e^{-theta} = rho_t (1 - E) + Q_t, the Q_t summing to 0, so
+  //   int E_c e^{-theta} - m_c (1 - E) = sum_t (m_tc - mu) Q_t
+  //     + sum_t int w_t tau_t (C_tc - m_tc) e^{-theta}
+  // for any mu; each sum of the right vanishes without e^{-theta}, so (as
+  // above) |Q_t| <= (1 - E) / 2 theta (rho_t's range over the piece) and the
+  // last term is within (1 - E) / 2 theta_t max |C_tc - m_tc|. rho_t's range
+  // comes from the ranges of the terms' extinctions (ExtinctionRange); mu is
+  // the m_uc that gives the least.
+  // Where even the colours' own spreads (the first sum) leave the bound
+  // above the share, the ranges are not sought: `fallback` is returned.
+  glm::vec<3, Real> SplitSpread(const glm::vec<3, Real>* wholes, Real theta,
+    const glm::vec<3, Real>& midpoint, const glm::vec<3, Real>& fallback) const
+  {
+    glm::vec<3, Real> own(Real(0)), means[MaximumComponents];
+    for (int t = 0; t < this->Count; ++t)
     {
-      const auto& e = *terms[t].Extinction;
-      const PieceColour<Real>& pc = terms[t].Colour;
-      Real wtau[7], sum = Real(0);
+      means[t] = this->Theta[t] > Real(0) ? wholes[t] / this->Theta[t] : glm::vec<3, Real>(Real(0));
+      own += this->Theta[t] * this->ColourSpread(this->Terms[t].Colour, means[t]);
+    }
+    if (!this->Fits(glm::min(midpoint, own)))
+    {
+      return fallback;
+    }
+    Real lo[MaximumComponents], hi[MaximumComponents], shares[MaximumComponents];
+    for (int t = 0; t < this->Count; ++t)
+    {
+      ExtinctionRange(this->Terms[t], this->L, lo[t], hi[t]);
+    }
+    for (int t = 0; t < this->Count; ++t)
+    {
+      Real otherLo = Real(0), otherHi = Real(0);
+      for (int u = 0; u < this->Count; ++u)
+      {
+        otherLo += u == t ? Real(0) : lo[u];
+        otherHi += u == t ? Real(0) : hi[u];
+      }
+      // rho_t = A / (A + B) rises with A and falls with B.
+      const Real least = lo[t] + otherHi > Real(0) ? lo[t] / (lo[t] + otherHi) : Real(0);
+      const Real most = hi[t] + otherLo > Real(0) ? hi[t] / (hi[t] + otherLo) : Real(1);
+      shares[t] = std::max(most - least, Real(0));
+    }
+    glm::vec<3, Real> between(std::numeric_limits<Real>::infinity());
+    for (int u = 0; u < this->Count; ++u)
+    {
+      glm::vec<3, Real> sum(Real(0));
+      for (int t = 0; t < this->Count; ++t)
+      {
+        sum += glm::abs(means[t] - means[u]) * shares[t];
+      }
+      between = glm::min(between, sum);
+    }
+    return own + theta * between;
+  }
+
+  // W_c = int_0^l E_c, E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)), by
+  // 7-point Gauss-Legendre, exact for E_c's degree (at most 12), and each
+  // term's W_tc in `wholes`: a term's sum of weighted extinctions and, of one
+  // colour scalar, its moment serve every channel.
+  glm::vec<3, Real> EmissionIntegrals(glm::vec<3, Real>* wholes) const
+  {
+    const Real half = Real(0.5) * this->L;
+    glm::vec<3, Real> whole(Real(0));
+    for (int t = 0; t < this->Count; ++t)
+    {
+      const Real* wtau = this->WeightedTau[t];
+      const PieceColour<Real>& pc = this->Terms[t].Colour;
+      Real sum = Real(0);
       for (int i = 0; i < 7; ++i)
       {
-        const Real d = terms[t].D(v[i]);
-        wtau[i] = G::W7[i] * (e.Tau + d * (e.TauSlope + d * (e.TauCurvature + d * e.TauCubic)));
         sum += wtau[i];
       }
       Real moment[3];
@@ -676,29 +869,30 @@ private:
         moment[c] = Real(0);
         for (int i = 0; i < 7; ++i)
         {
-          moment[c] += wtau[i] * x(v[i]);
+          moment[c] += wtau[i] * x(this->Nodes[i]);
         }
       }
       for (int c = 0; c < 3; ++c)
       {
-        const Real m = moment[pc.Sources == 1 ? 0 : c];
-        whole[c] += terms[t].Weight * (pc.A[c] * sum + pc.B[c] * m);
+        wholes[t][c] = half * (pc.A[c] * sum + pc.B[c] * moment[pc.Sources == 1 ? 0 : c]);
       }
+      whole += wholes[t];
     }
-    return whole * half;
+    return whole;
   }
 
   // The emissions as polynomials of M coefficients, integrated against
   // e^{-theta} by SeriesIntegrals.
   template <int M>
-  bool SeriesOf(const PieceTerm<Real>* terms, int count, glm::vec<3, Real>& colour) const
+  bool SeriesOf(glm::vec<3, Real>& colour) const
   {
     // E_c(v) = sum_t w_t tau_t(v) (a_tc + b_tc x_tc(v)).
     Real emission[3][M] = {};
-    for (int t = 0; t < count; ++t)
+    for (int t = 0; t < this->Count; ++t)
     {
-      const Polynomial<Real, 10> tau = ExtinctionPolynomial(*terms[t].Extinction, terms[t].D);
-      const PieceColour<Real>& pc = terms[t].Colour;
+      const PieceTerm<Real>& term = this->Terms[t];
+      const Polynomial<Real, 10> tau = ExtinctionPolynomial(*term.Extinction, term.D);
+      const PieceColour<Real>& pc = term.Colour;
       for (int c = 0; c < 3; ++c)
       {
         const Cubic<Real>& x = pc.Of(c);
@@ -706,7 +900,7 @@ private:
           pc.B[c] * x.K[3] };
         for (int i = 0; i + 3 < M; ++i)
         {
-          const Real wt = terms[t].Weight * tau.C[i];
+          const Real wt = term.Weight * tau.C[i];
           for (int k = 0; k < 4; ++k)
           {
             emission[c][i + k] += wt * C[k];
@@ -740,12 +934,43 @@ private:
     const Real front = this->Ta, inverseL = this->InverseL;
     auto allowed = [&](Real Ev, Real Eh, Real h)
     { return scale * (front * (Ev - Eh) + h * inverseL); };
-    return SeriesIntegrals(this->Depth, g, this->L, this->E, allowed, this->Stats, out);
+    return SeriesIntegrals(this->Depth(), g, this->L, this->E, allowed, this->Stats, out);
   }
 
-  const PieceDepth<Real>& Depth;
-  Real L, E, Ta, Budget, InverseL;
+  // theta's polynomial, built where the series needs it.
+  const PieceDepth<Real>& Depth() const
+  {
+    if (!this->HasDepth)
+    {
+      this->Summed = TermDepth(this->Terms[0]);
+      for (int t = 1; t < this->Count; ++t)
+      {
+        this->Summed.Add(TermDepth(this->Terms[t]), Real(1));
+      }
+      this->HasDepth = true;
+    }
+    return this->Summed;
+  }
+
+  static PieceDepth<Real> TermDepth(const PieceTerm<Real>& term)
+  {
+    const auto& e = *term.Extinction;
+    const Real w = term.Weight;
+    return PieceDepth<Real>(term.D, w * e.Tau, w * e.TauSlope, w * e.TauCurvature, w * e.TauCubic);
+  }
+
+  const PieceTerm<Real>* Terms;
+  int Count;
+  Real L, Ta, Budget, InverseL;
+  Real E = Real(1);
   RayStatistics<Real>& Stats;
+  // Several terms: 7-point Gauss-Legendre's nodes on [0, l], each term's w
+  // tau times the node's weight there, and its depth theta_t(l).
+  Real Nodes[7];
+  Real WeightedTau[MaximumComponents][7];
+  Real Theta[MaximumComponents];
+  mutable PieceDepth<Real> Summed;
+  mutable bool HasDepth = false;
 };
 } // namespace detail
 
@@ -967,25 +1192,13 @@ private:
     {
       return true;
     }
-    auto depthOf = [&terms](int i)
-    {
-      const auto& e = *terms[i].Extinction;
-      const Real w = terms[i].Weight;
-      return PieceDepth<Real>(
-        terms[i].D, w * e.Tau, w * e.TauSlope, w * e.TauCurvature, w * e.TauCubic);
-    };
-    PieceDepth<Real> depth = depthOf(0);
-    for (int i = 1; i < n; ++i)
-    {
-      depth.Add(depthOf(i), Real(1));
-    }
-    const Real E = std::exp(-depth(l));
     RayStatistics<Real>& stats = this->Result.Statistics;
     ++stats.Pieces;
     ++stats.Samples;
     stats.Accept(l);
-    const MixturePiece<Real> piece(depth, l, E, this->T, this->Budget, this->InverseL, stats);
-    if (!(n == 1 ? piece.ByParts(terms[0], this->Colour) : piece.Emissions(terms, n, this->Colour)))
+    const MixturePiece<Real> piece(terms, n, l, this->T, this->Budget, this->InverseL, stats);
+    const Real E = piece.Transmittance();
+    if (!piece.Integrate(this->Colour))
     {
       this->Result.Error = RefusedPieceError;
       return false;
