@@ -33,6 +33,18 @@ an::TransferFunction<double> Ramp(double tau, const glm::dvec3& low, const glm::
   return tf;
 }
 
+// An extinction rising from 0 at 0 to 2 at 255 (extinction model), of one
+// colour.
+an::TransferFunction<double> Rising(const glm::dvec3& colour)
+{
+  an::TransferFunction<double> tf;
+  tf.AddOpacityKnot(0.0, 0.0);
+  tf.AddOpacityKnot(255.0, 2.0);
+  tf.AddColorKnot(0.0, colour.r, colour.g, colour.b);
+  tf.Finalize();
+  return tf;
+}
+
 // An 8 x 3 x 3 grid of `components` interleaved values, component k
 // value(k, i) along x (constant across y and z): linear fields stay linear
 // under trilinear interpolation.
@@ -182,11 +194,7 @@ TEST(Mixture, ThickPiecesOfAConstantMeanColourNeedNoSeries)
     AlongX(2, [](int k, int i) { return k == 0 ? 30.0 * i : 250.0 - 10.0 * i; });
   const Volumes volumes = MakeVolumes(data, 2);
   const glm::dvec3 white(1.0), red(1.0, 0.0, 0.0), blue(0.0, 0.0, 1.0);
-  an::TransferFunction<double> rising;
-  rising.AddOpacityKnot(0.0, 0.0);
-  rising.AddOpacityKnot(255.0, 2.0);
-  rising.AddColorKnot(0.0, 1.0, 1.0, 1.0);
-  rising.Finalize();
+  const an::TransferFunction<double> rising = Rising(white);
   const an::TransferFunction<double> flat = Ramp(0.5, white, white);
   const an::TransferFunction<double> reds = Ramp(0.3, red, red), blues = Ramp(0.7, blue, blue);
   const double w[2] = { 1.0, 1.0 };
@@ -223,11 +231,7 @@ TEST(Mixture, VaryingSharesOfTheExtinctionWithinTolerance)
     AlongX(2, [](int k, int i) { return k == 0 ? 30.0 * i : 100.0; });
   const Volumes volumes = MakeVolumes(data, 2);
   const glm::dvec3 red(1.0, 0.0, 0.0), blue(0.0, 0.0, 1.0);
-  an::TransferFunction<double> rising;
-  rising.AddOpacityKnot(0.0, 0.0);
-  rising.AddOpacityKnot(255.0, 2.0);
-  rising.AddColorKnot(0.0, 1.0, 0.0, 0.0);
-  rising.Finalize();
+  const an::TransferFunction<double> rising = Rising(red);
   const an::TransferFunction<double> blues = Ramp(0.5, blue, blue);
   const an::TransferFunction<double>* f[2] = { &rising, &blues };
   const double w[2] = { 1.0, 1.0 };
