@@ -547,19 +547,18 @@ Polynomial<Real, 10> ExtinctionPolynomial(
   return tau;
 }
 
-// The range [lo, hi] of the cubic q over [0, length]: its ends and its
-// extrema inside, up to rounding.
+// The range [lo, hi] of the cubic q over [0, length]: its values at the
+// bounds of its monotone stretches (StretchBounds), up to rounding.
 template <typename Real>
 void CubicRange(const Cubic<Real>& q, Real length, Real& lo, Real& hi)
 {
-  lo = std::min(q(Real(0)), q(length));
-  hi = std::max(q(Real(0)), q(length));
-  Real extrema[2];
-  const int n = Extrema(q, length, extrema);
-  for (int i = 0; i < n; ++i)
+  Real bounds[4];
+  const int n = StretchBounds(q, length, bounds);
+  lo = hi = q(bounds[0]);
+  for (int i = 1; i < n; ++i)
   {
-    lo = std::min(lo, q(extrema[i]));
-    hi = std::max(hi, q(extrema[i]));
+    lo = std::min(lo, q(bounds[i]));
+    hi = std::max(hi, q(bounds[i]));
   }
 }
 
