@@ -14,13 +14,18 @@
 std::string avos::ShadingFromRenderer(vtkRenderer* ren, vtkVolumeProperty* property,
   numerics::ShadingModel<double>& model, std::vector<double>& key)
 {
+  return ShadingFromLights(ren->GetLights(), ren->GetTwoSidedLighting() != 0, property, model, key);
+}
+
+std::string avos::ShadingFromLights(vtkLightCollection* lights, bool twoSided,
+  vtkVolumeProperty* property, numerics::ShadingModel<double>& model, std::vector<double>& key)
+{
   model = numerics::ShadingModel<double>();
   model.Ambient = property->GetAmbient(0);
   model.Diffuse = property->GetDiffuse(0);
   model.Specular = property->GetSpecular(0);
   model.SpecularPower = property->GetSpecularPower(0);
-  model.TwoSided = ren->GetTwoSidedLighting() != 0;
-  vtkLightCollection* lights = ren->GetLights();
+  model.TwoSided = twoSided;
   vtkCollectionSimpleIterator it;
   lights->InitTraversal(it);
   while (vtkLight* light = lights->GetNextLight(it))

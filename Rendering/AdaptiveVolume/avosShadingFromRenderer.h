@@ -15,6 +15,7 @@
 #include <string> // For std::string
 #include <vector> // For std::vector
 
+class vtkLightCollection;
 class vtkRenderer;
 class vtkVolumeProperty;
 
@@ -36,6 +37,15 @@ struct FrameMethod;
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ShadingFromRenderer(vtkRenderer* ren,
   vtkVolumeProperty* property, numerics::ShadingModel<double>& model, std::vector<double>& key);
+
+/**
+ * As ShadingFromRenderer, from `lights` and `twoSided` lighting: for a class
+ * that lights with a renderer's lights before it renders (where VTK has not
+ * yet created its automatic headlight).
+ */
+AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ShadingFromLights(vtkLightCollection* lights,
+  bool twoSided, vtkVolumeProperty* property, numerics::ShadingModel<double>& model,
+  std::vector<double>& key);
 
 /**
  * The normal matrix of `gridToWorld` (row-major 4x4, affine): grid

@@ -660,47 +660,30 @@ std::string avos::GradientOpacityConversion::Update(vtkVolumeProperty* property,
   return this->Error;
 }
 
-std::string avos::UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading, bool nearest, int components, bool gradientOpacity)
+std::string avos::UnsupportedPropertySettings(vtkVolumeProperty* property, int components)
 {
   if (!property)
   {
     return std::string();
   }
-  if (property->GetInterpolationType() != VTK_LINEAR_INTERPOLATION && !nearest)
-  {
-    return "Only trilinear interpolation is supported (the integrals are those of the trilinear "
-           "field): call the property's SetInterpolationTypeToLinear()";
-  }
-  bool unsupportedGradient = false;
-  for (int k = gradientOpacity ? 1 : 0; k < std::max(components, 1); ++k)
-  {
-    unsupportedGradient = unsupportedGradient || UsesGradientOpacity(property, k);
-  }
   if (property->GetTransferFunctionMode() != vtkVolumeProperty::TF_1D)
   {
-    return std::string("A 2D transfer function (ParaView's Use 2D Transfer Function) is not "
-                       "supported: colour and opacity are functions of the scalar") +
-      (gradientOpacity ? ", the opacity scaled by the first component's gradient opacity "
-                         "(vtkVolumeProperty::SetGradientOpacity)"
-                       : "");
+    return "A 2D transfer function (ParaView's Use 2D Transfer Function) is not supported: colour "
+           "and opacity are functions of the scalar, the opacity scaled by the first component's "
+           "gradient opacity (vtkVolumeProperty::SetGradientOpacity)";
   }
-  if (unsupportedGradient)
+  for (int k = 1; k < components; ++k)
   {
-    return gradientOpacity
-      ? "Gradient opacity is supported on the first component only: no gradient opacity for the "
-        "others"
-      : "This class takes no gradient opacity: disable the property's gradient opacity";
+    if (UsesGradientOpacity(property, k))
+    {
+      return "Gradient opacity is supported on the first component only: no gradient opacity "
+             "for the others";
+    }
   }
   if (property->GetUseClippedVoxelIntensity())
   {
     return "UseClippedVoxelIntensity (VTK's GPU mapper's fill of clipped voxels for gradients) is "
            "not supported: clipping cuts the rays exactly";
-  }
-  if (property->GetShade(0) && !shading)
-  {
-    return "Shading is not supported by this class: turn the property's Shade off "
-           "(vtkAdaptiveVolumeMapper and vtkVolumeOnSurfaceMapper shade)";
   }
   return std::string();
 }

@@ -166,17 +166,15 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string ApproximationNotice(int approxima
 
 /**
  * Empty, or a sentence (no final stop) naming the property's settings that the ray
- * integrals do not honour (never ignored): nearest interpolation unless
- * `nearest` (the caller integrates the field constant per point region), a
- * gradient opacity of any of the first `components` that changes anything
- * (UsesGradientOpacity) but the first component's where `gradientOpacity`
- * (the caller scales by it), a 2D transfer function,
- * UseClippedVoxelIntensity, and shading unless `shading` (the caller lights
- * the emission).
+ * integrals do not honour (never ignored): a gradient opacity of any of the
+ * first `components` but the first that changes anything
+ * (UsesGradientOpacity), a 2D transfer function and
+ * UseClippedVoxelIntensity. Every class that integrates rays takes linear
+ * and nearest interpolation, shading and the first component's gradient
+ * opacity.
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string UnsupportedPropertySettings(
-  vtkVolumeProperty* property, bool shading = false, bool nearest = false, int components = 1,
-  bool gradientOpacity = false);
+  vtkVolumeProperty* property, int components = 1);
 
 /**
  * Empty, or a sentence (no final stop) naming what scalars of `components`

@@ -508,8 +508,7 @@ bool vtkAdaptiveVolumeMapper::UpdateProperty(vtkRenderer* ren, vtkVolume* vol)
   vtkInternals& internals = *this->Internals;
   vtkVolumeProperty* property = vol->GetProperty();
   // What the mapper does not honour is refused, never ignored.
-  std::string unsupported =
-    avos::UnsupportedPropertySettings(property, true, true, internals.Components, true);
+  std::string unsupported = avos::UnsupportedPropertySettings(property, internals.Components);
   if (unsupported.empty())
   {
     unsupported = avos::UnsupportedForComponents(

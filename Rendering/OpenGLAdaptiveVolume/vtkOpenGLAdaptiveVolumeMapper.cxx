@@ -382,7 +382,7 @@ std::string vtkOpenGLAdaptiveVolumeMapper::CheckRenderable(
   const int components = problem.empty() ? this->GetRenderedScalars()->GetNumberOfComponents() : 1;
   if (problem.empty())
   {
-    problem = avos::UnsupportedPropertySettings(property, true, true, components, true);
+    problem = avos::UnsupportedPropertySettings(property, components);
   }
   if (problem.empty())
   {

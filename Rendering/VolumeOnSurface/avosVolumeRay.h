@@ -46,7 +46,7 @@
 #include <string>
 #include <vector>
 
-class vtkRenderer;
+class vtkLightCollection;
 
 namespace avos
 {
@@ -145,11 +145,12 @@ struct VolumeRaySetup
 
   // Empty, or why the volume or the property cannot be used. `planes`: the
   // clipping planes (world coordinates) that cut every ray; null: none.
-  // `lights`: the renderer whose lights shade the rays when the property
-  // shades; null: shading is refused (the rays do not know the view).
+  // `lights` (their switched-on ones) and `twoSided` lighting shade the rays
+  // when the property shades (a renderer's); null: shading is refused.
   std::string Prepare(vtkImageData* volume, vtkVolumeProperty* property, bool extinction,
     RayIntegration method, double sampleDistance, double tolerance,
-    vtkPlaneCollection* planes = nullptr, vtkRenderer* lights = nullptr)
+    vtkPlaneCollection* planes = nullptr, vtkLightCollection* lights = nullptr,
+    bool twoSided = true)
   {
     bool cellScalars = false;
     this->Scalars = VolumeScalars(volume, cellScalars);
@@ -191,13 +192,12 @@ struct VolumeRaySetup
     {
       return "the volume's spacing must be non-zero and finite";
     }
-    const std::string unsupported =
-      UnsupportedPropertySettings(property, lights != nullptr, true, this->Components, true);
+    const std::string unsupported = UnsupportedPropertySettings(property, this->Components);
     if (!unsupported.empty())
     {
       return unsupported;
     }
-    const std::string unlit = this->PrepareShading(property, lights);
+    const std::string unlit = this->PrepareShading(property, lights, twoSided);
     if (!unlit.empty())
     {
       return unlit;
@@ -316,9 +316,9 @@ struct VolumeRaySetup
     return std::string();
   }
 
-  // Shade and Shading from the property and `lights`; empty, or why the
-  // lights cannot be used.
-  std::string PrepareShading(vtkVolumeProperty* property, vtkRenderer* lights)
+  // Shade and Shading from the property, `lights` and `twoSided`; empty, or
+  // why they cannot be used.
+  std::string PrepareShading(vtkVolumeProperty* property, vtkLightCollection* lights, bool twoSided)
   {
     this->Shade = property && property->GetShade(0) != 0;
     if (!this->Shade)
@@ -330,8 +330,12 @@ struct VolumeRaySetup
     {
       return "cannot shade " + unmodelled + "; turn the property's Shade off";
     }
+    if (!lights)
+    {
+      return "cannot shade: no lights given";
+    }
     std::vector<double> key; // the mapper's view key holds its own copy
-    const std::string invalid = ShadingFromRenderer(lights, property, this->Shading, key);
+    const std::string invalid = ShadingFromLights(lights, twoSided, property, this->Shading, key);
     return invalid.empty() ? invalid : "cannot shade: " + invalid;
   }
 

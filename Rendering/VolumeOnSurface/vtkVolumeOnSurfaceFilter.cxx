@@ -6,6 +6,8 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkLight.h"
+#include "vtkLightCollection.h"
 #include "vtkMath.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
@@ -13,6 +15,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataNormals.h"
+#include "vtkRenderer.h"
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
@@ -51,6 +54,7 @@ struct PrevisualizationKey
   vtkMTimeType VolumeScalars = 0;
   std::array<double, 21> VolumeGrid{}; // vtkVolumeOnSurfaceFilter::GetGrid
   vtkMTimeType Property = 0;
+  std::vector<double> Shading; // the lights and coefficients, when the property shades
 
   bool operator==(const PrevisualizationKey& o) const
   {
@@ -59,7 +63,8 @@ struct PrevisualizationKey
       this->SampleDistance == o.SampleDistance && this->Tolerance == o.Tolerance &&
       this->Extinction == o.Extinction && this->Skipping == o.Skipping &&
       this->Surface == o.Surface && this->VolumeScalars == o.VolumeScalars &&
-      this->VolumeGrid == o.VolumeGrid && this->Property == o.Property;
+      this->VolumeGrid == o.VolumeGrid && this->Property == o.Property &&
+      this->Shading == o.Shading;
   }
 };
 
@@ -116,6 +121,16 @@ public:
   vtkSmartPointer<vtkPolyData> WithNormals;
   vtkPolyData* NormalsSource = nullptr;
   vtkMTimeType NormalsTime = 0;
+  // The headlight a renderer without a light switched on creates at its
+  // first render (ShadingLights).
+  vtkNew<vtkLightCollection> AutomaticLights;
+  vtkNew<vtkLight> Headlight;
+
+  vtkInternals()
+  {
+    this->Headlight->SetLightTypeToHeadlight();
+    this->AutomaticLights->AddItem(this->Headlight);
+  }
 };
 
 vtkStandardNewMacro(vtkVolumeOnSurfaceFilter);
@@ -149,6 +164,20 @@ void vtkVolumeOnSurfaceFilter::SetCamera(vtkCamera* camera)
     }
     this->Modified();
   }
+}
+
+void vtkVolumeOnSurfaceFilter::SetRenderer(vtkRenderer* renderer)
+{
+  if (renderer != this->Renderer)
+  {
+    this->Renderer = renderer;
+    this->Modified();
+  }
+}
+
+vtkRenderer* vtkVolumeOnSurfaceFilter::GetRenderer()
+{
+  return this->Renderer;
 }
 
 void vtkVolumeOnSurfaceFilter::SetVolumeConnection(vtkAlgorithmOutput* output)
@@ -188,6 +217,18 @@ vtkMTimeType vtkVolumeOnSurfaceFilter::GetMTime()
   if (this->VolumeProperty)
   {
     t = std::max(t, this->VolumeProperty->GetMTime());
+  }
+  if (this->Renderer)
+  {
+    // Its two-sided lighting, its set of lights and each light.
+    vtkLightCollection* lights = this->Renderer->GetLights();
+    t = std::max({ t, this->Renderer->GetMTime(), lights->GetMTime() });
+    vtkCollectionSimpleIterator it;
+    lights->InitTraversal(it);
+    while (vtkLight* light = lights->GetNextLight(it))
+    {
+      t = std::max(t, light->GetMTime());
+    }
   }
   return t;
 }
@@ -345,6 +386,12 @@ bool vtkVolumeOnSurfaceFilter::ValidateInputs(
     vtkErrorMacro(<< "No camera to assign the colours for: SetCamera().");
     return false;
   }
+  if (this->VolumeProperty->GetShade(0) && !this->Renderer)
+  {
+    vtkErrorMacro(<< "The volume property shades: give the renderer whose lights light the rays "
+                     "(SetRenderer()), or turn its Shade off.");
+    return false;
+  }
   double surfaceBounds[6], volumeBounds[6];
   surface->GetBounds(surfaceBounds);
   volume->GetBounds(volumeBounds);
@@ -359,6 +406,31 @@ bool vtkVolumeOnSurfaceFilter::ValidateInputs(
     vtkErrorMacro(<< "The surface lies outside the volume.");
   }
   return overlap;
+}
+
+vtkLightCollection* vtkVolumeOnSurfaceFilter::ShadingLights()
+{
+  // A renderer with no light switched on creates a headlight at its first
+  // render (vtkRenderer::CreateLight): a pipeline updated before it (a
+  // ResetCamera asks for the bounds) takes that light now.
+  vtkLightCollection* lights = this->Renderer->GetLights();
+  vtkCollectionSimpleIterator it;
+  lights->InitTraversal(it);
+  while (vtkLight* light = lights->GetNextLight(it))
+  {
+    if (light->GetSwitch())
+    {
+      return lights;
+    }
+  }
+  if (!this->Renderer->GetAutomaticLightCreation())
+  {
+    return lights;
+  }
+  vtkInternals& in = *this->Internals;
+  in.Headlight->SetPosition(this->Camera->GetPosition());
+  in.Headlight->SetFocalPoint(this->Camera->GetFocalPoint());
+  return in.AutomaticLights;
 }
 
 vtkPolyData* vtkVolumeOnSurfaceFilter::UpdateNormals(vtkPolyData* surface)
@@ -404,6 +476,15 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
   key.VolumeScalars = volumeScalars ? volumeScalars->GetMTime() : 0;
   GetGrid(volume, key.VolumeGrid.data());
   key.Property = this->VolumeProperty->GetMTime();
+  vtkLightCollection* lights = nullptr;
+  const bool twoSided = this->Renderer && this->Renderer->GetTwoSidedLighting();
+  if (this->VolumeProperty->GetShade(0))
+  {
+    // (Lights that cannot be used are reported by Prepare.)
+    lights = this->ShadingLights();
+    avos::numerics::ShadingModel<double> model;
+    avos::ShadingFromLights(lights, twoSided, this->VolumeProperty, model, key.Shading);
+  }
   if (in.HaveRays && key == in.Key)
   {
     return true;
@@ -412,7 +493,7 @@ bool vtkVolumeOnSurfaceFilter::Previsualize(vtkImageData* volume, vtkPolyData* w
   avos::VolumeRaySetup setup;
   const std::string error = setup.Prepare(volume, this->VolumeProperty, key.Extinction,
     static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
-    this->Tolerance);
+    this->Tolerance, nullptr, lights, twoSided);
   if (!avos::ReportPrepared(this, error, setup))
   {
     return false;
@@ -592,5 +673,6 @@ void vtkVolumeOnSurfaceFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "VolumeProperty: " << this->VolumeProperty << "\n";
   os << indent << "Camera: " << this->Camera << "\n";
+  os << indent << "Renderer: " << this->Renderer.GetPointer() << "\n";
   os << indent << "NumberOfRaysCast: " << this->NumberOfRaysCast << "\n";
 }

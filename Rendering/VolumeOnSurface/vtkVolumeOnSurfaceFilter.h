@@ -39,7 +39,7 @@
  * camera's, so a camera change re-executes it, but only the assignment runs
  * again (a few dot products per vertex: cheap enough for every frame). The
  * previsualization is redone only when the surface, the volume, the volume
- * property or a cone or integration parameter changed.
+ * property, a cone or integration parameter or, shaded, the lights changed.
  * GetNumberOfRaysCast() tells which happened in the last execution.
  *
  * Inputs: port 0 the isosurface (vtkPolyData with point normals; computed
@@ -52,9 +52,18 @@
  *
  * The volume property's gradient opacity scales the extinction as in
  * vtkAdaptiveVolumeMapper (G of the exact gradient's magnitude, scalar units
- * per world unit; the piecewise method within Tolerance). Shading is
- * refused: the cones are cast once for every view, and a lit colour depends
- * on the viewer (vtkVolumeOnSurfaceMapper, VoS^M*, shades).
+ * per world unit; the piecewise method within Tolerance). With the
+ * property's Shade on, each cone ray's emission is lit as
+ * vtkAdaptiveVolumeMapper lights a ray's (Blinn-Phong on the exact gradient;
+ * the piecewise method within Tolerance) by the switched-on lights of the
+ * renderer given to SetRenderer, as seen along the ray itself: the ray
+ * stands for the observation line it is chosen for. Where the renderer has
+ * no light switched on yet and creates its own (AutomaticLightCreation, at
+ * its first render), the rays take the headlight it creates: white, at the
+ * camera. The lit colours depend on the lights: lights that follow the
+ * camera (headlights, camera lights) change with every camera change, and
+ * the cones are cast again then; with scene lights alone a camera change
+ * only assigns colours.
  *
  * Pieces (distributed pipelines): the surface is the piece asked of this
  * filter, with its ghost cells passed through (each vertex is coloured
@@ -76,11 +85,14 @@
 #include "avosRenderingVolumeOnSurfaceModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 #include "vtkSmartPointer.h" // For vtkSmartPointer
+#include "vtkWeakPointer.h"  // For vtkWeakPointer
 
 #include <memory> // For std::unique_ptr
 
 class vtkCamera;
 class vtkImageData;
+class vtkLightCollection;
+class vtkRenderer;
 class vtkVolumeProperty;
 
 class AVOSRENDERINGVOLUMEONSURFACE_EXPORT vtkVolumeOnSurfaceFilter : public vtkPolyDataAlgorithm
@@ -109,6 +121,16 @@ public:
    */
   void SetCamera(vtkCamera* camera);
   vtkGetObjectMacro(Camera, vtkCamera);
+  ///@}
+
+  ///@{
+  /**
+   * The renderer whose lights shade the rays when the volume property
+   * shades (required then). Not reference counted: the renderer usually
+   * draws this filter's output, and a counted reference would make a loop.
+   */
+  void SetRenderer(vtkRenderer* renderer);
+  vtkRenderer* GetRenderer();
   ///@}
 
   ///@{
@@ -242,8 +264,8 @@ protected:
    * (an error and an empty output for each bad one), the surface's normals
    * (the input's, or computed once per surface), the previsualization (the
    * cone rays of every vertex, cast by CastCones with the ray set-up it
-   * prepared, unless nothing they depend on changed) and the colour of each
-   * vertex for the camera.
+   * prepared, unless nothing they depend on changed, the lights included)
+   * and the colour of each vertex for the camera.
    */
   bool ValidateInputs(vtkPolyData* surface, vtkImageData* received, vtkImageData* volume);
   vtkPolyData* UpdateNormals(vtkPolyData* surface);
@@ -251,6 +273,13 @@ protected:
   bool CastCones(vtkPolyData* withNormals);
   void AssignColours(vtkPolyData* withNormals, vtkPolyData* output);
   ///@}
+
+  /**
+   * The lights that shade the rays: the renderer's, or where none is
+   * switched on and the renderer creates its own at its first render, that
+   * headlight (white, at the camera).
+   */
+  vtkLightCollection* ShadingLights();
 
   /**
    * The volume the rays cross, from what input port 1 received (null when
@@ -278,6 +307,7 @@ protected:
 
   vtkVolumeProperty* VolumeProperty = nullptr;
   vtkCamera* Camera = nullptr;
+  vtkWeakPointer<vtkRenderer> Renderer;
   int RaysPerCone = 4;
   vtkTypeBool FlipNormals = 0;
   int IntegrationMethod = PIECEWISE;

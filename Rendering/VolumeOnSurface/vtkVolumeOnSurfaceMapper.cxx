@@ -1033,9 +1033,10 @@ bool vtkVolumeOnSurfaceMapper::ColourLevel(vtkRenderer* ren, vtkActor* act, int 
   avos::VolumeRaySetup setup;
   // The mapper's clipping planes clip the drawn surface (the delegate) and
   // cut the rays: no volume from beyond a plane colours a vertex.
-  const std::string error = setup.Prepare(in.Volume, this->VolumeProperty,
-    this->ExtinctionOpacity != 0, static_cast<avos::RayIntegration>(this->IntegrationMethod),
-    this->SampleDistance, this->Tolerance, this->ClippingPlanes, ren);
+  const std::string error =
+    setup.Prepare(in.Volume, this->VolumeProperty, this->ExtinctionOpacity != 0,
+      static_cast<avos::RayIntegration>(this->IntegrationMethod), this->SampleDistance,
+      this->Tolerance, this->ClippingPlanes, ren->GetLights(), ren->GetTwoSidedLighting() != 0);
   if (!avos::ReportPrepared(this, error, setup))
   {
     return false;

@@ -276,11 +276,6 @@ int TestVolumeOnSurfaceFilter(int, char*[])
       errors.Check("tolerance", "the tolerance must be within (0, 1]"), "a tolerance out of range");
   }
   vos->SetTolerance(0.01);
-  // Property settings the rays do not honour are refused, never ignored.
-  property->ShadeOn();
-  vos->Update();
-  Expect(errors.Check("shading", "Shading is not supported"), "shading refused");
-  property->ShadeOff();
   vos->SetCamera(nullptr);
   vos->Update();
   Expect(errors.Check("no camera", "No camera to assign the colours for"), "no camera");

@@ -4,14 +4,19 @@ camera change only reassigns (also when the volume's image was touched but
 its scalars were not), and the memory report adds up. The mapper's
 settings of this round are wrapped (screen density, visibility test). A
 volume of two components (vtkImageAppendComponents) and the property's
-default nearest interpolation are coloured, not refused."""
+default nearest interpolation are coloured, not refused. Shaded, the rays
+take the lights of the renderer given (SetRenderer): under a scene light a
+camera change only reassigns, and without a renderer the shaded property
+is refused."""
 
 import avos
 from vtkmodules.test import Testing
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
 from vtkmodules.vtkFiltersCore import vtkFlyingEdges3D
 from vtkmodules.vtkImagingCore import vtkImageAppendComponents
-from vtkmodules.vtkRenderingCore import vtkCamera, vtkColorTransferFunction, vtkVolumeProperty
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkRenderingCore import (vtkCamera, vtkColorTransferFunction, vtkLight, vtkRenderer,
+                                         vtkVolumeProperty)
 
 
 def transfer_functions(first_opacity, last_opacity):
@@ -124,6 +129,55 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         mixed = colours(pair, halves)
         self.assertEqual(len(mixed), len(single))
         self.assertLessEqual(max(abs(a - b) for a, b in zip(mixed, single)), 6)
+
+    def test_shading(self):
+        volume = avos.vtkAnalyticVolumeSource()
+        volume.SetFunctionToSphereDistance()
+        volume.SetDimensions(24, 24, 24)
+        surface = vtkFlyingEdges3D()
+        surface.SetInputConnection(volume.GetOutputPort())
+        surface.SetValue(0, 0.5)
+        surface.ComputeNormalsOn()
+        color, opacity = transfer_functions(0.4, 0.05)
+        prop = vtkVolumeProperty()
+        prop.SetInterpolationTypeToLinear()
+        prop.SetColor(color)
+        prop.SetScalarOpacity(opacity)
+        camera = vtkCamera()
+        camera.SetPosition(0, 0, 6)
+        renderer = vtkRenderer()
+        light = vtkLight()
+        light.SetLightTypeToSceneLight()
+        light.SetPosition(1, 1, 3)
+        renderer.AddLight(light)
+        vos = avos.vtkVolumeOnSurfaceFilter()
+        vos.SetInputConnection(surface.GetOutputPort())
+        vos.SetVolumeConnection(volume.GetOutputPort())
+        vos.SetVolumeProperty(prop)
+        vos.SetCamera(camera)
+        vos.SetRenderer(renderer)
+        vos.FlipNormalsOn()
+        errors = []
+        vos.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: errors.append(event))
+
+        def colours():
+            vos.Update()
+            rgba = vos.GetOutput().GetPointData().GetScalars()
+            return [rgba.GetValue(i) for i in range(rgba.GetNumberOfValues())] if rgba else []
+
+        unshaded = colours()
+        prop.ShadeOn()
+        shaded = colours()
+        self.assertEqual(vos.GetNumberOfRaysCast(), 12 * vos.GetOutput().GetNumberOfPoints())
+        self.assertEqual(len(shaded), len(unshaded))
+        self.assertGreater(max(abs(a - b) for a, b in zip(shaded, unshaded)), 20)
+        camera.Azimuth(5)
+        colours()
+        self.assertEqual(vos.GetNumberOfRaysCast(), 0)
+        self.assertEqual(errors, [])
+        vos.SetRenderer(None)
+        self.assertEqual(colours(), [])
+        self.assertEqual(len(errors), 1)
 
     def test_mapper_settings(self):
         mapper = avos.vtkVolumeOnSurfaceMapper()
