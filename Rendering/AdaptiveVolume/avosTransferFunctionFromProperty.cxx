@@ -630,15 +630,37 @@ bool avos::UsesGradientOpacity(vtkVolumeProperty* property, int component)
   return false;
 }
 
-std::string avos::GradientOpacityFromProperty(
-  vtkVolumeProperty* property, TransferFunction& tf, int& approximated)
+std::string avos::GradientOpacityFromProperty(vtkVolumeProperty* property, double maximumExtinction,
+  TransferFunction& tf, ConversionBudget& budget)
 {
+  namespace an = avos::numerics;
   tf = TransferFunction();
   tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
+  vtkPiecewiseFunction* g = property->GetGradientOpacity(0);
+  const bool certifying = budget.Opacity > 0.0 && budget.LongestRay > 0.0;
+  const auto share = an::ExtinctionBudget<double>::Within(
+    budget.Opacity, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
+  // The extinction tau G, tau <= maximumExtinction: a chord of G within
+  // Relative G + Absolute / maximumExtinction keeps it within `share`.
+  const double tau = std::max(maximumExtinction, 0.0);
+  auto tolerance = [&](const std::array<an::Jet<double>, 1>& f)
+  {
+    return an::ExtinctionChordTolerance(
+      f[0].V, ReferenceSlack, share, [tau](double v) { return tau * v; },
+      [tau](double) { return tau; });
+  };
   const std::string error = ConvertPiecewise(
-    property->GetGradientOpacity(0),
-    [&tf](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
-    [](int, double, auto&&) { return false; }, approximated);
+    g, [&tf](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
+    [&](int i, double xm, auto&& add)
+    {
+      const bool certified = certifying &&
+        AddCertifiedInterval(
+          g, i, xm, tolerance, [](double, double) { return false; }, add);
+      budget.CertifiedOpacity += certified ? 1 : 0;
+      return certified;
+    },
+    budget.Approximated);
+  budget.Spent = budget.CertifiedOpacity > 0 ? budget.Opacity : 0.0;
   if (!error.empty())
   {
     return "the gradient opacity function " + error;
@@ -647,15 +669,22 @@ std::string avos::GradientOpacityFromProperty(
   return tf.Validate();
 }
 
-std::string avos::GradientOpacityConversion::Update(vtkVolumeProperty* property, int& approximated)
+std::string avos::GradientOpacityConversion::Update(vtkVolumeProperty* property,
+  double maximumExtinction, const ConversionBudget& request, int& approximated)
 {
   approximated = 0;
   vtkPiecewiseFunction* source = property->GetGradientOpacity(0);
-  if (source != this->Source || source->GetMTime() != this->SourceTime)
+  if (source != this->Source || source->GetMTime() != this->SourceTime ||
+    maximumExtinction != this->MaximumExtinction || !request.SameAs(this->Request))
   {
-    this->Error = GradientOpacityFromProperty(property, this->Function, approximated);
+    this->Budget = request;
+    this->Error =
+      GradientOpacityFromProperty(property, maximumExtinction, this->Function, this->Budget);
+    approximated = this->Budget.Approximated;
     this->Source = source;
     this->SourceTime = source->GetMTime();
+    this->MaximumExtinction = maximumExtinction;
+    this->Request = request;
   }
   return this->Error;
 }
@@ -721,6 +750,16 @@ avos::ConversionBudget avos::ConversionBudget::ForTolerance(
   budget.ColourGain = std::max(gain, 1.0);
   budget.Colour = ColourShare * tolerance / budget.ColourGain;
   budget.Opacity = OpacityShare * tolerance;
+  budget.LongestRay = longestRay;
+  return budget;
+}
+
+avos::ConversionBudget avos::ConversionBudget::ForGradientOpacity(
+  double tolerance, double gain, double longestRay)
+{
+  ConversionBudget budget;
+  budget.ColourGain = std::max(gain, 1.0);
+  budget.Opacity = GradientShare * tolerance;
   budget.LongestRay = longestRay;
   return budget;
 }

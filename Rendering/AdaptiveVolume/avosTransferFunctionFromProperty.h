@@ -56,6 +56,12 @@ struct AVOSRENDERINGADAPTIVEVOLUME_EXPORT ConversionBudget
    */
   static ConversionBudget ForTolerance(double tolerance, double gain, double longestRay);
 
+  /**
+   * The share of `tolerance` a gradient opacity function may take
+   * (GradientShare, in Opacity), for GradientOpacityFromProperty.
+   */
+  static ConversionBudget ForGradientOpacity(double tolerance, double gain, double longestRay);
+
   /** The inputs are the same (the conversion would be too). */
   bool SameAs(const ConversionBudget& other) const;
 };
@@ -149,6 +155,8 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool ModelPiecewiseInterval(
  */
 constexpr double ColourShare = 0.5;
 constexpr double OpacityShare = 0.25;
+/** The share of eps a curved gradient opacity function may take. */
+constexpr double GradientShare = 0.125;
 
 /**
  * The tolerance a class integrates to after a conversion within `budget`:
@@ -194,34 +202,50 @@ AVOSRENDERINGADAPTIVEVOLUME_EXPORT bool UsesGradientOpacity(
   vtkVolumeProperty* property, int component);
 
 /**
- * The first component's gradient opacity function as the opacity knots of
+ * The first component's gradient opacity function G as the opacity knots of
  * `tf` (replaced; one white colour knot), taken exactly where VTK
- * interpolates it piecewise linearly and resampled with 16 knots per
- * interval elsewhere (counted in `approximated`). Empty, or why not.
+ * interpolates it piecewise linearly. Elsewhere (a Hermite curve, a log
+ * scale), where `budget` has a positive Opacity (ForGradientOpacity),
+ * linearised within it: the extinction is tau G with tau at most
+ * `maximumExtinction` (the scalar transfer function's largest), so a chord
+ * of G within Relative G + Absolute / maximumExtinction keeps tau G within
+ * the numerics::ExtinctionBudget of budget.Opacity
+ * (numerics::ExtinctionChordTolerance of the extinction maximumExtinction
+ * G): every pixel within budget.Opacity of the one VTK's G gives. The
+ * intervals certified are counted in budget.CertifiedOpacity, the pixel
+ * error they may cause in budget.Spent; the others are resampled with 16
+ * knots per interval (budget.Approximated). Empty, or why not.
  */
 AVOSRENDERINGADAPTIVEVOLUME_EXPORT std::string GradientOpacityFromProperty(
-  vtkVolumeProperty* property, avos::numerics::TransferFunction<double>& tf, int& approximated);
+  vtkVolumeProperty* property, double maximumExtinction,
+  avos::numerics::TransferFunction<double>& tf, ConversionBudget& budget);
 
 /**
  * GradientOpacityFromProperty kept between frames: converted again only
  * when the first component's gradient opacity function changes (another
- * function, or its MTime), so that a mapper converts it, and warns of what
- * it resampled, once per change.
+ * function, or its MTime) or its budget does, so that a mapper converts it,
+ * and warns of what it resampled, once per change.
  */
 class AVOSRENDERINGADAPTIVEVOLUME_EXPORT GradientOpacityConversion
 {
 public:
   /**
-   * The conversion of `property`'s function; `approximated` is what this
-   * call resampled (0 when it reused the last conversion). Empty, or why
-   * the function cannot be used.
+   * The conversion of `property`'s function within `request` for tau up to
+   * `maximumExtinction` (GradientOpacityFromProperty); `approximated` is
+   * what this call resampled (0 when it reused the last conversion). Empty,
+   * or why the function cannot be used.
    */
-  std::string Update(vtkVolumeProperty* property, int& approximated);
+  std::string Update(vtkVolumeProperty* property, double maximumExtinction,
+    const ConversionBudget& request, int& approximated);
   const avos::numerics::TransferFunction<double>& Get() const { return this->Function; }
+  /** What the last conversion certified and spent. */
+  const ConversionBudget& GetBudget() const { return this->Budget; }
 
 private:
   vtkPiecewiseFunction* Source = nullptr;
   vtkMTimeType SourceTime = 0;
+  double MaximumExtinction = 0.0;
+  ConversionBudget Request, Budget;
   std::string Error;
   avos::numerics::TransferFunction<double> Function;
 };

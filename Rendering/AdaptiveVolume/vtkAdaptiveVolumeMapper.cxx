@@ -231,6 +231,17 @@ public:
 
   // DisplayFrame.
   vtkSmartPointer<vtkRayCastImageDisplayHelper> DisplayHelper;
+
+  // What a conversion's budget is for: the colours' gain under the shading
+  // and the longest ray (voxel units).
+  double ColourGain() const
+  {
+    return this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
+  }
+  double LongestRay() const
+  {
+    return avos::LongestChord(this->GridToWorld, this->Dimensions) / this->Voxel;
+  }
 };
 
 vtkStandardNewMacro(vtkAdaptiveVolumeMapper);
@@ -556,9 +567,8 @@ bool vtkAdaptiveVolumeMapper::UpdateTransferFunction(vtkVolumeProperty* property
   // method's colours and opacity are converted within shares of its eps where
   // VTK's are not piecewise linear, and the rays integrated to the rest; lit,
   // a colour's error is multiplied by up to the shading's colour gain.
-  const double gain = internals.Shade ? std::max(1.0, internals.Shading.ColourGain()) : 1.0;
-  const double chord =
-    avos::LongestChord(internals.GridToWorld, internals.Dimensions) / internals.Voxel;
+  const double gain = internals.ColourGain();
+  const double chord = internals.LongestRay();
   const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
   const bool reference = this->IntegrationMethod == REFERENCE;
   avos::ConversionBudget request; // none: the sampled methods certify nothing
@@ -637,8 +647,20 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
                   << "; disable the property's gradient opacity.");
     return false;
   }
+  // The piecewise method takes a curved G within GradientShare of its eps
+  // (the rays integrated to the rest). The other methods, the reference
+  // included, resample it: at the reference's conversion tolerances its
+  // knots would be so dense that the enclosures of G's kinks could not
+  // isolate them within a piece's sub-interval cap.
+  const bool piecewise = this->IntegrationMethod == PIECEWISE_ADAPTIVE;
+  const double largest = internals.TF.GetMaximumExtinction(
+    -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
   int approximated = 0;
-  const std::string error = internals.GradientConversion.Update(property, approximated);
+  const std::string error = internals.GradientConversion.Update(property, largest,
+    piecewise ? avos::ConversionBudget::ForGradientOpacity(
+                  this->Tolerance, internals.ColourGain(), internals.LongestRay())
+              : avos::ConversionBudget(),
+    approximated);
   if (!error.empty())
   {
     vtkErrorMacro(<< "Unusable gradient opacity: " << error << ".");
@@ -647,6 +669,10 @@ bool vtkAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProperty* property)
   if (approximated > 0)
   {
     vtkWarningMacro(<< avos::ApproximationNotice(approximated) << ".");
+  }
+  if (piecewise)
+  {
+    internals.IntegrationTolerance -= internals.GradientConversion.GetBudget().Spent;
   }
   // Gradients in grid coordinates to world space (scalar units per world unit).
   internals.Gradient.Function = &internals.GradientConversion.Get();

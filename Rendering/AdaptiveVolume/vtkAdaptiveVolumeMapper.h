@@ -91,8 +91,12 @@
  * average voxel spacing, divided by a quarter of the data's range and
  * clamped to 1). Every method takes it, the piecewise method and the
  * reference with a proven error (avos/numerics/PiecewiseGradientOpacity.h:
- * the extinction is then not a polynomial along a piece, it is enclosed);
- * projections and fields constant per cell refuse it.
+ * the extinction is then not a polynomial along a piece, it is enclosed).
+ * A curved G (a Hermite curve, a log scale) is linearised by the piecewise
+ * method within avos::GradientShare of its tolerance (a proven bound; the
+ * rays integrated to the rest) and resampled by the other methods, the
+ * reference included, with a warning. Projections and fields constant per
+ * cell refuse it.
  *
  * Shading (the property's Shade, ambient, diffuse, specular and specular
  * power, the renderer's switched-on lights: directional, and positional with

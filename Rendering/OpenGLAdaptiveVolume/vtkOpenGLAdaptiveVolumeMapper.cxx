@@ -686,8 +686,10 @@ std::string vtkOpenGLAdaptiveVolumeMapper::UpdateGradientOpacity(vtkVolumeProper
   internals.UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
   if (internals.UsesGradientOpacity)
   {
+    // (No budget: the sampled methods certify nothing.)
     int approximated = 0;
-    const std::string error = internals.GradientConversion.Update(property, approximated);
+    const std::string error =
+      internals.GradientConversion.Update(property, 0.0, avos::ConversionBudget(), approximated);
     if (!error.empty())
     {
       return "unusable gradient opacity: " + error;

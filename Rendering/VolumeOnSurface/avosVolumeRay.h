@@ -208,10 +208,16 @@ struct VolumeRaySetup
     {
       return unconverted;
     }
-    const std::string ungraded = this->PrepareGradientOpacity(property, gridToWorld);
+    const std::string ungraded =
+      this->PrepareGradientOpacity(property, method, tolerance, gridToWorld);
     if (!ungraded.empty())
     {
       return ungraded;
+    }
+    const std::string unpieced = this->PreparePieces(method, tolerance);
+    if (!unpieced.empty())
+    {
+      return unpieced;
     }
     this->Clip = avos::numerics::ClipRegion<double>();
     const std::string planesError = AddClippingPlanes(planes, gridToWorld->GetData(), this->Clip);
@@ -236,20 +242,19 @@ struct VolumeRaySetup
     return std::string();
   }
 
-  // The transfer function, its table or pieces for `method`, and the
-  // tolerance the rays are integrated to (Settings.Tolerance): the piecewise
-  // method's colours and opacity are converted within shares of its eps
-  // where VTK's are not piecewise linear, the rays integrated to the rest;
-  // lit, a colour's error is multiplied by up to the shading's colour gain.
+  // The transfer function, its table for `method`, and the tolerance the
+  // rays are integrated to (Settings.Tolerance): the piecewise method's
+  // colours and opacity are converted within shares of its eps where VTK's
+  // are not piecewise linear, the rays integrated to the rest; lit, a
+  // colour's error is multiplied by up to the shading's colour gain.
   std::string PrepareTransferFunction(vtkVolumeProperty* property, bool extinction,
     RayIntegration method, double tolerance, vtkMatrix4x4* gridToWorld)
   {
-    const double gain = this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
     ConversionBudget budget;
     if (method == RayIntegration::Piecewise)
     {
       budget = ConversionBudget::ForTolerance(
-        tolerance, gain, LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
+        tolerance, this->ColourGain(), LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
     }
     const bool mixture = this->Components > 1;
     const std::string error = mixture
@@ -272,6 +277,14 @@ struct VolumeRaySetup
         return "unusable transfer function: " + tableError;
       }
     }
+    return std::string();
+  }
+
+  // The pieces of the piecewise method, for the tolerance the rays are
+  // integrated to (after every conversion).
+  std::string PreparePieces(RayIntegration method, double tolerance)
+  {
+    const bool mixture = this->Components > 1;
     if (method == RayIntegration::Piecewise)
     {
       const double relativeError = avos::numerics::PiecewiseRelativeError(this->Settings.Tolerance);
@@ -289,8 +302,11 @@ struct VolumeRaySetup
 
   // The gradient opacity from the property (the extinction times G of the
   // gradient's magnitude in scalar units per world unit, as
-  // vtkAdaptiveVolumeMapper's); empty, or why it cannot be used.
-  std::string PrepareGradientOpacity(vtkVolumeProperty* property, vtkMatrix4x4* gridToWorld)
+  // vtkAdaptiveVolumeMapper's; the piecewise method's curved G within
+  // GradientShare of its eps, taken off Settings.Tolerance); empty, or why it
+  // cannot be used.
+  std::string PrepareGradientOpacity(
+    vtkVolumeProperty* property, RayIntegration method, double tolerance, vtkMatrix4x4* gridToWorld)
   {
     this->UsesGradientOpacity = avos::UsesGradientOpacity(property, 0);
     if (!this->UsesGradientOpacity)
@@ -303,14 +319,22 @@ struct VolumeRaySetup
       return "gradient opacity is not supported with " + unmodelled +
         "; disable the property's gradient opacity";
     }
-    int approximated = 0;
+    ConversionBudget budget;
+    if (method == RayIntegration::Piecewise)
+    {
+      budget = ConversionBudget::ForGradientOpacity(
+        tolerance, this->ColourGain(), LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
+    }
+    const double largest = this->TF.GetMaximumExtinction(
+      -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
     const std::string error =
-      GradientOpacityFromProperty(property, this->GradientFunction, approximated);
+      GradientOpacityFromProperty(property, largest, this->GradientFunction, budget);
     if (!error.empty())
     {
       return "unusable gradient opacity: " + error;
     }
-    this->ApproximatedIntervals += approximated;
+    this->ApproximatedIntervals += budget.Approximated;
+    this->Settings.Tolerance -= budget.Spent;
     this->Gradient.Function = &this->GradientFunction;
     this->Gradient.NormalMatrix = NormalMatrix(gridToWorld->GetData());
     return std::string();
@@ -337,6 +361,13 @@ struct VolumeRaySetup
     std::vector<double> key; // the mapper's view key holds its own copy
     const std::string invalid = ShadingFromLights(lights, twoSided, property, this->Shading, key);
     return invalid.empty() ? invalid : "cannot shade: " + invalid;
+  }
+
+  // The colours' gain under the shading (what their conversion's budget is
+  // divided by).
+  double ColourGain() const
+  {
+    return this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
   }
 
   // Empty, or the volume whose gradient (for shading and gradient opacity)

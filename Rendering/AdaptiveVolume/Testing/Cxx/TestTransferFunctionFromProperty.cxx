@@ -374,6 +374,52 @@ int TestTransferFunctionFromProperty(int, char*[])
           c.Approximated == static_cast<int>(curve.Nodes.size()) - 1,
         std::string(curve.Name) + ": resampled and reported without a budget");
     }
+    // Gradient opacity curves (Hermite, a log scale): the extinction tau G,
+    // tau up to the largest 2.5, within the extinction budget's hypothesis of
+    // the gradient share at 20,001 magnitudes (G's own chord error within
+    // Relative G + Absolute / 2.5).
+    for (const bool log : { false, true })
+    {
+      const std::string name = log ? "gradient opacity, log scale" : "gradient opacity, Hermite";
+      vtkNew<vtkPiecewiseFunction> g;
+      g->SetUseLogScale(log);
+      g->AddPoint(1.0, 1.0, 0.3, 0.6);
+      g->AddPoint(40.0, 0.2, 0.5, 0.3);
+      g->AddPoint(80.0, 0.0);
+      Case c;
+      c.Opacity->AddPoint(0.0, 0.3);
+      c.Property->SetGradientOpacity(g);
+      const double largest = 2.5;
+      for (double tolerance : { 1e-2, 1e-3 })
+      {
+        const std::string at = name + " at " + std::to_string(tolerance);
+        avos::ConversionBudget budget =
+          avos::ConversionBudget::ForGradientOpacity(tolerance, 1.0, 300.0);
+        Expect(budget.Opacity == avos::GradientShare * tolerance, at + ": its share");
+        TF f;
+        Expect(avos::GradientOpacityFromProperty(c.Property, largest, f, budget).empty(),
+          at + " converts");
+        Expect(budget.CertifiedOpacity == 2 && budget.Approximated == 0 &&
+            budget.Spent == budget.Opacity,
+          at + ": every interval certified, its share spent");
+        const auto share =
+          avos::numerics::ExtinctionBudget<double>::Within(budget.Opacity, 300.0, 1.0);
+        Expect(Largest(1.0, 80.0, {},
+                 [&](double x)
+                 {
+                   const double converted = largest * f.GetOpacityValue(x);
+                   const double exact = largest * g->GetValue(x);
+                   return std::abs(converted - exact) -
+                     share.Relative * std::min(converted, exact) - share.Absolute;
+                 }) <= 1e-12,
+          at + ": tau G within the budget's hypothesis");
+      }
+      avos::ConversionBudget none;
+      TF f;
+      Expect(avos::GradientOpacityFromProperty(c.Property, largest, f, none).empty() &&
+          none.Approximated == 2 && none.Spent == 0.0,
+        name + ": resampled and reported without a budget");
+    }
     // A gray Hermite curve, a colour: within budget.Colour of VTK's gray.
     Case c;
     c.Opacity->AddPoint(0.0, 0.3);

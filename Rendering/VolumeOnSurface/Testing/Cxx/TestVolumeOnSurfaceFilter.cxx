@@ -135,6 +135,7 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   vos->SetVolumeSideToBehindSurface();
   vos->Update();
 
+  avostest::ExpectedErrors errors(vos);
   // Gradient opacity: the constant volume's gradient is 0, and G(0) = 1/2
   // halves the extinction, whatever the method.
   vtkNew<vtkPiecewiseFunction> gradientOpacity;
@@ -149,6 +150,19 @@ int TestVolumeOnSurfaceFilter(int, char*[])
     Expect(centralColours(vos->GetOutput(), 1.5 * secant / voxel, 0.5),
       "gradient opacity: the central vertices' colours = closed form with tau / 2");
   }
+  // A curved G (its sharpness moved): certified by the piecewise method (no
+  // notice), resampled with a notice by the others.
+  vtkNew<vtkPiecewiseFunction> curved;
+  curved->AddPoint(0, 0.5, 0.5, 0.5);
+  curved->AddPoint(10, 1.0);
+  property->SetGradientOpacity(curved);
+  vos->Update();
+  Expect(errors.None("curved G") && centralColours(vos->GetOutput(), 1.5 * secant / voxel, 0.5),
+    "a curved G: certified by the piecewise method, the closed form with tau / 2");
+  vos->SetIntegrationMethodToLevoy();
+  vos->Update();
+  Expect(errors.CheckWarning("curved G, Riemann sum", "approximated"),
+    "a curved G: resampled by the Riemann sum, with a notice");
   property->DisableGradientOpacityOn();
   vos->Update();
 
@@ -259,7 +273,6 @@ int TestVolumeOnSurfaceFilter(int, char*[])
   }
 
   // Bad input.
-  avostest::ExpectedErrors errors(vos);
   for (double step : { 0.0, 1e-4, 2e3, std::nan("") })
   {
     vos->SetSampleDistance(step);
