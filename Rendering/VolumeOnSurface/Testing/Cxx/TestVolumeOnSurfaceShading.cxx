@@ -87,27 +87,10 @@ int TestVolumeOnSurfaceShading(int, char*[])
   {
     window->Render();
     vtkPolyData* surface = mapper->GetColoredSurface();
-    vtkDataArray* colors = surface->GetPointData()->GetScalars();
     const double alpha = 1.0 - std::exp(-factor * tau * chord / voxel);
-    double w = 0.0;
-    checked = 0;
-    for (vtkIdType v = 0; v < surface->GetNumberOfPoints(); ++v)
-    {
-      double p[3];
-      surface->GetPoint(v, p);
-      if (std::abs(p[0]) > 0.9 || std::abs(p[1]) > 0.9)
-      {
-        continue;
-      }
-      ++checked;
-      for (int c = 0; c < 4; ++c)
-      {
-        const double rgb = shaded ? lit(c < 3 ? c : 0, intensity) : color[c < 3 ? c : 0];
-        const double exact = 255.0 * (c < 3 ? rgb * alpha : alpha);
-        w = std::max(w, std::abs(colors->GetComponent(v, c) - exact));
-      }
-    }
-    return w;
+    return vosknown::WorstInnerVertex(
+      surface, surface->GetPointData()->GetScalars(), 0.9, alpha,
+      [&](int c) { return shaded ? lit(c, intensity) : color[c]; }, checked);
   };
   int checked = 0;
   vtkNew<vtkPiecewiseFunction> gradient;

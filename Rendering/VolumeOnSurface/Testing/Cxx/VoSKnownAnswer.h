@@ -12,11 +12,15 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
 #include "vtkVolumeOnSurfaceMapper.h"
 #include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace vosknown
 {
@@ -60,6 +64,33 @@ inline vtkSmartPointer<vtkVolumeOnSurfaceMapper> MapperOnIsosurface(
   actor->SetMapper(mapper);
   renderer->AddActor(actor);
   return mapper;
+}
+
+// The largest difference of the 8-bit RGBA `colours` of the vertices of
+// `surface` with |x| and |y| at most `inner` from 255 (rgb(c) alpha, alpha)
+// (c < 3; 255 when there are no colours), their count in `checked`.
+template <typename RGB>
+double WorstInnerVertex(
+  vtkPolyData* surface, vtkDataArray* colours, double inner, double alpha, RGB&& rgb, int& checked)
+{
+  double w = colours ? 0.0 : 255.0;
+  checked = 0;
+  for (vtkIdType v = 0; colours && v < surface->GetNumberOfPoints(); ++v)
+  {
+    double p[3];
+    surface->GetPoint(v, p);
+    if (std::abs(p[0]) > inner || std::abs(p[1]) > inner)
+    {
+      continue;
+    }
+    ++checked;
+    for (int c = 0; c < 4; ++c)
+    {
+      const double exact = 255.0 * (c < 3 ? rgb(c) * alpha : alpha);
+      w = std::max(w, std::abs(colours->GetComponent(v, c) - exact));
+    }
+  }
+  return w;
 }
 
 // An off-screen size x size window showing `renderer` from +z, parallel,

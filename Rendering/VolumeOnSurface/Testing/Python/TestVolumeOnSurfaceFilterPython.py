@@ -30,23 +30,34 @@ def transfer_functions(first_opacity, last_opacity):
     return color, opacity
 
 
+def sphere_distance(dimensions):
+    """The distance from the centre sampled on dimensions^3 points, and its
+    isosurface at 0.5 with normals."""
+    volume = avos.vtkAnalyticVolumeSource()
+    volume.SetFunctionToSphereDistance()
+    volume.SetDimensions(dimensions, dimensions, dimensions)
+    surface = vtkFlyingEdges3D()
+    surface.SetInputConnection(volume.GetOutputPort())
+    surface.SetValue(0, 0.5)
+    surface.ComputeNormalsOn()
+    return volume, surface
+
+
+def linear_property(color, opacity):
+    prop = vtkVolumeProperty()
+    prop.SetInterpolationTypeToLinear()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    return prop
+
+
 class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
     def test_pipeline(self):
-        volume = avos.vtkAnalyticVolumeSource()
-        volume.SetFunctionToSphereDistance()
-        volume.SetDimensions(32, 32, 32)
-        contour = vtkFlyingEdges3D()
-        contour.SetInputConnection(volume.GetOutputPort())
-        contour.SetValue(0, 0.5)
-        contour.ComputeNormalsOn()
+        volume, contour = sphere_distance(32)
         decimate = avos.vtkOpenMeshDecimation()
         decimate.SetInputConnection(contour.GetOutputPort())
         decimate.SetTargetReduction(0.5)
-        color, opacity = transfer_functions(0.1, 0.1)
-        prop = vtkVolumeProperty()
-        prop.SetInterpolationTypeToLinear()
-        prop.SetColor(color)
-        prop.SetScalarOpacity(opacity)
+        prop = linear_property(*transfer_functions(0.1, 0.1))
         camera = vtkCamera()
         camera.SetPosition(0, 0, 6)
         vos = avos.vtkVolumeOnSurfaceFilter()
@@ -89,16 +100,10 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         self.assertEqual(vos.GetNumberOfRaysCast(), 12 * n)
 
     def test_components_and_nearest(self):
-        volume = avos.vtkAnalyticVolumeSource()
-        volume.SetFunctionToSphereDistance()
-        volume.SetDimensions(24, 24, 24)
+        volume, surface = sphere_distance(24)
         pair = vtkImageAppendComponents()
         pair.AddInputConnection(volume.GetOutputPort())
         pair.AddInputConnection(volume.GetOutputPort())
-        surface = vtkFlyingEdges3D()
-        surface.SetInputConnection(volume.GetOutputPort())
-        surface.SetValue(0, 0.5)
-        surface.ComputeNormalsOn()
         color, opacity = transfer_functions(0.4, 0.05)
         camera = vtkCamera()
         camera.SetPosition(0, 0, 6)
@@ -131,18 +136,8 @@ class TestVolumeOnSurfaceFilterPython(Testing.vtkTest):
         self.assertLessEqual(max(abs(a - b) for a, b in zip(mixed, single)), 6)
 
     def test_shading(self):
-        volume = avos.vtkAnalyticVolumeSource()
-        volume.SetFunctionToSphereDistance()
-        volume.SetDimensions(24, 24, 24)
-        surface = vtkFlyingEdges3D()
-        surface.SetInputConnection(volume.GetOutputPort())
-        surface.SetValue(0, 0.5)
-        surface.ComputeNormalsOn()
-        color, opacity = transfer_functions(0.4, 0.05)
-        prop = vtkVolumeProperty()
-        prop.SetInterpolationTypeToLinear()
-        prop.SetColor(color)
-        prop.SetScalarOpacity(opacity)
+        volume, surface = sphere_distance(24)
+        prop = linear_property(*transfer_functions(0.4, 0.05))
         camera = vtkCamera()
         camera.SetPosition(0, 0, 6)
         renderer = vtkRenderer()
