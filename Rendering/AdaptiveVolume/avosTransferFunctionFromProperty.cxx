@@ -577,35 +577,44 @@ std::string ConvertColor(vtkVolumeProperty* property, int component, bool sameSc
   return std::string();
 }
 
-// VTK's opacity function of `component` as knots: exact where VTK
-// interpolates piecewise linearly, certified within `pixel`
-// (numerics::ExtinctionBudget: the extinctions `tf`'s opacity model gives,
-// for rays up to LongestRay) where it does not, resampled otherwise.
-std::string ConvertOpacity(vtkVolumeProperty* property, int component, double pixel,
-  TransferFunction& tf, avos::ConversionBudget& budget)
+// An opacity-like function `f` as the opacity knots of `tf`: exact where
+// VTK interpolates it piecewise linearly, certified within `pixel`
+// (numerics::ExtinctionBudget for rays up to budget.LongestRay and colours
+// up to budget.ColourGain) for the extinction `extinction(v)` of slope at
+// most `slope(v)` below v where it does not, resampled otherwise. Returns
+// ConvertPiecewise's error.
+template <typename Extinction, typename Slope>
+std::string ConvertWithin(vtkPiecewiseFunction* f, double pixel, TransferFunction& tf,
+  avos::ConversionBudget& budget, Extinction&& extinction, Slope&& slope)
 {
   namespace an = avos::numerics;
-  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(component);
   const bool certifying = pixel > 0.0 && budget.LongestRay > 0.0;
   const auto share = an::ExtinctionBudget<double>::Within(
     pixel, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
-  auto tolerance = [&](const std::array<an::Jet<double>, 1>& f)
-  {
-    return an::ExtinctionChordTolerance(
-      f[0].V, ReferenceSlack, share, [&tf](double v) { return tf.ToExtinction(v); },
-      [&tf](double v) { return tf.ExtinctionSlope(v); });
-  };
-  const std::string error = ConvertPiecewise(
-    opacity, [&](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
+  auto tolerance = [&](const std::array<an::Jet<double>, 1>& j)
+  { return an::ExtinctionChordTolerance(j[0].V, ReferenceSlack, share, extinction, slope); };
+  return ConvertPiecewise(
+    f, [&tf](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
     [&](int i, double xm, auto&& add)
     {
       const bool certified = certifying &&
         AddCertifiedInterval(
-          opacity, i, xm, tolerance, [](double, double) { return false; }, add);
+          f, i, xm, tolerance, [](double, double) { return false; }, add);
       budget.CertifiedOpacity += certified ? 1 : 0;
       return certified;
     },
     budget.Approximated);
+}
+
+// VTK's opacity function of `component` as knots, certified within `pixel`
+// for the extinctions `tf`'s opacity model gives (ConvertWithin).
+std::string ConvertOpacity(vtkVolumeProperty* property, int component, double pixel,
+  TransferFunction& tf, avos::ConversionBudget& budget)
+{
+  const std::string error = ConvertWithin(
+    property->GetScalarOpacity(component), pixel, tf, budget,
+    [&tf](double v) { return tf.ToExtinction(v); },
+    [&tf](double v) { return tf.ExtinctionSlope(v); });
   return error.empty() ? error : "the scalar opacity function " + error;
 }
 
@@ -633,33 +642,14 @@ bool avos::UsesGradientOpacity(vtkVolumeProperty* property, int component)
 std::string avos::GradientOpacityFromProperty(vtkVolumeProperty* property, double maximumExtinction,
   TransferFunction& tf, ConversionBudget& budget)
 {
-  namespace an = avos::numerics;
   tf = TransferFunction();
   tf.AddColorKnot(0.0, 1.0, 1.0, 1.0);
-  vtkPiecewiseFunction* g = property->GetGradientOpacity(0);
-  const bool certifying = budget.Opacity > 0.0 && budget.LongestRay > 0.0;
-  const auto share = an::ExtinctionBudget<double>::Within(
-    budget.Opacity, std::max(budget.LongestRay, 1.0), std::max(budget.ColourGain, 1.0));
   // The extinction tau G, tau <= maximumExtinction: a chord of G within
-  // Relative G + Absolute / maximumExtinction keeps it within `share`.
+  // Relative G + Absolute / maximumExtinction keeps it within the budget.
   const double tau = std::max(maximumExtinction, 0.0);
-  auto tolerance = [&](const std::array<an::Jet<double>, 1>& f)
-  {
-    return an::ExtinctionChordTolerance(
-      f[0].V, ReferenceSlack, share, [tau](double v) { return tau * v; },
-      [tau](double) { return tau; });
-  };
-  const std::string error = ConvertPiecewise(
-    g, [&tf](double s, double v) { tf.AddOpacityKnot(s, ClampRounding(v)); },
-    [&](int i, double xm, auto&& add)
-    {
-      const bool certified = certifying &&
-        AddCertifiedInterval(
-          g, i, xm, tolerance, [](double, double) { return false; }, add);
-      budget.CertifiedOpacity += certified ? 1 : 0;
-      return certified;
-    },
-    budget.Approximated);
+  const std::string error = ConvertWithin(
+    property->GetGradientOpacity(0), budget.Opacity, tf, budget,
+    [tau](double v) { return tau * v; }, [tau](double) { return tau; });
   budget.Spent = budget.CertifiedOpacity > 0 ? budget.Opacity : 0.0;
   if (!error.empty())
   {

@@ -142,14 +142,7 @@ int TestVolumeOnSurfaceFilterShading(int, char*[])
   // A directional scene light and the headlight; no specular (the key
   // light's would depend on the ray's azimuth).
   vtkNew<vtkLight> key, head;
-  key->SetLightTypeToSceneLight();
-  key->SetPosition(1, 0, 2);
-  key->SetFocalPoint(0, 0, 0);
-  key->SetColor(1.0, 0.9, 0.8);
-  key->SetIntensity(0.8);
-  head->SetLightTypeToHeadlight();
-  renderer->AddLight(key);
-  renderer->AddLight(head);
+  vosknown::AddKeyAndHeadlight(renderer, key, head);
   window->Render();
   Expect(worst(20.0, 20.0, true, true, 0.8, checked) <= allowed && checked == 81,
     "each central vertex: its ray's integral lit by the key light and the headlight");

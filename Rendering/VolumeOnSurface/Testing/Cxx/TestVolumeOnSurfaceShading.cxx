@@ -56,14 +56,7 @@ int TestVolumeOnSurfaceShading(int, char*[])
   vtkNew<vtkRenderer> renderer;
   vtkVolumeOnSurfaceMapper* mapper = vosknown::MapperOnIsosurface(volume, property, 0.8, renderer);
   vtkNew<vtkLight> key, head;
-  key->SetLightTypeToSceneLight();
-  key->SetPosition(1, 0, 2);
-  key->SetFocalPoint(0, 0, 0);
-  key->SetColor(1.0, 0.9, 0.8);
-  key->SetIntensity(0.8);
-  head->SetLightTypeToHeadlight();
-  renderer->AddLight(key);
-  renderer->AddLight(head);
+  vosknown::AddKeyAndHeadlight(renderer, key, head);
   vtkNew<vtkRenderWindow> window;
   vosknown::ViewFromAbove(window, renderer, 64);
 

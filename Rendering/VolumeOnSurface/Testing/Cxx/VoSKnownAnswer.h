@@ -10,6 +10,7 @@
 #include "vtkDataArray.h"
 #include "vtkFlyingEdges3D.h"
 #include "vtkImageData.h"
+#include "vtkLight.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
@@ -91,6 +92,21 @@ double WorstInnerVertex(
     }
   }
   return w;
+}
+
+// The shaded scenes' lights, added to `renderer`: `key`, a directional
+// scene light from (1, 0, 2) towards the origin, of colour (1, 0.9, 0.8)
+// and intensity 0.8, and `head`, a headlight.
+inline void AddKeyAndHeadlight(vtkRenderer* renderer, vtkLight* key, vtkLight* head)
+{
+  key->SetLightTypeToSceneLight();
+  key->SetPosition(1, 0, 2);
+  key->SetFocalPoint(0, 0, 0);
+  key->SetColor(1.0, 0.9, 0.8);
+  key->SetIntensity(0.8);
+  head->SetLightTypeToHeadlight();
+  renderer->AddLight(key);
+  renderer->AddLight(head);
 }
 
 // An off-screen size x size window showing `renderer` from +z, parallel,
