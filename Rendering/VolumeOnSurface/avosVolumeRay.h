@@ -254,7 +254,7 @@ struct VolumeRaySetup
     if (method == RayIntegration::Piecewise)
     {
       budget = ConversionBudget::ForTolerance(
-        tolerance, this->ColourGain(), LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
+        tolerance, this->ColourGain(), this->LongestRay(gridToWorld));
     }
     const bool mixture = this->Components > 1;
     const std::string error = mixture
@@ -323,7 +323,7 @@ struct VolumeRaySetup
     if (method == RayIntegration::Piecewise)
     {
       budget = ConversionBudget::ForGradientOpacity(
-        tolerance, this->ColourGain(), LongestChord(gridToWorld, this->Dimensions) / this->Voxel);
+        tolerance, this->ColourGain(), this->LongestRay(gridToWorld));
     }
     const double largest = this->TF.GetMaximumExtinction(
       -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
@@ -363,11 +363,15 @@ struct VolumeRaySetup
     return invalid.empty() ? invalid : "cannot shade: " + invalid;
   }
 
-  // The colours' gain under the shading (what their conversion's budget is
-  // divided by).
+  // What a conversion's budget is for: the colours' gain under the shading
+  // and the longest ray (voxel units).
   double ColourGain() const
   {
     return this->Shade ? std::max(1.0, this->Shading.ColourGain()) : 1.0;
+  }
+  double LongestRay(vtkMatrix4x4* gridToWorld) const
+  {
+    return LongestChord(gridToWorld, this->Dimensions) / this->Voxel;
   }
 
   // Empty, or the volume whose gradient (for shading and gradient opacity)

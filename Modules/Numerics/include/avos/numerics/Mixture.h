@@ -622,11 +622,11 @@ public:
     {
       this->Nodes[i] = half + half * G::N7[i];
     }
-    Real theta = Real(0);
     for (int t = 0; t < count; ++t)
     {
       const auto& e = *terms[t].Extinction;
-      Real sum = Real(0);
+      Real& sum = this->TauSum[t];
+      sum = Real(0);
       for (int i = 0; i < 7; ++i)
       {
         const Real d = terms[t].D(this->Nodes[i]);
@@ -635,9 +635,9 @@ public:
         sum += this->WeightedTau[t][i];
       }
       this->Theta[t] = std::max(sum * half, Real(0));
-      theta += this->Theta[t];
+      this->TotalTheta += this->Theta[t];
     }
-    this->E = std::exp(-theta);
+    this->E = std::exp(-this->TotalTheta);
   }
 
   // e^{-theta(l)}.
@@ -719,11 +719,7 @@ private:
     }
     glm::vec<3, Real> wholes[MaximumComponents];
     const glm::vec<3, Real> whole = this->EmissionIntegrals(wholes);
-    Real theta = Real(0);
-    for (int t = 0; t < this->Count; ++t)
-    {
-      theta += this->Theta[t];
-    }
+    const Real theta = this->TotalTheta;
     const glm::vec<3, Real> m = theta > Real(0) ? whole / theta : glm::vec<3, Real>(Real(0));
     const glm::vec<3, Real> midpoint = glm::abs(whole);
     glm::vec<3, Real> around = this->SpreadAround(m);
@@ -856,11 +852,6 @@ private:
     {
       const Real* wtau = this->WeightedTau[t];
       const PieceColour<Real>& pc = this->Terms[t].Colour;
-      Real sum = Real(0);
-      for (int i = 0; i < 7; ++i)
-      {
-        sum += wtau[i];
-      }
       Real moment[3];
       for (int c = 0; c < pc.Sources; ++c)
       {
@@ -873,7 +864,8 @@ private:
       }
       for (int c = 0; c < 3; ++c)
       {
-        wholes[t][c] = half * (pc.A[c] * sum + pc.B[c] * moment[pc.Sources == 1 ? 0 : c]);
+        wholes[t][c] =
+          half * (pc.A[c] * this->TauSum[t] + pc.B[c] * moment[pc.Sources == 1 ? 0 : c]);
       }
       whole += wholes[t];
     }
@@ -964,10 +956,13 @@ private:
   Real E = Real(1);
   RayStatistics<Real>& Stats;
   // Several terms: 7-point Gauss-Legendre's nodes on [0, l], each term's w
-  // tau times the node's weight there, and its depth theta_t(l).
+  // tau times the node's weight there and their sum, its depth theta_t(l)
+  // (that sum times l / 2, at least 0), and the terms' total theta(l).
   Real Nodes[7];
   Real WeightedTau[MaximumComponents][7];
+  Real TauSum[MaximumComponents];
   Real Theta[MaximumComponents];
+  Real TotalTheta = Real(0);
   mutable PieceDepth<Real> Summed;
   mutable bool HasDepth = false;
 };
